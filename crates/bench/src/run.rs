@@ -1,0 +1,195 @@
+//! `tumble-bench run`: one scene, N steps, one JSON document.
+
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::PathBuf;
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use serde::Serialize;
+use serde::ser::SerializeMap;
+use tumble_physics::{Limits, World, default_thread_count};
+use tumble_scene::{DEFAULT_MAX_FILE_BYTES, LoadLimits};
+
+/// Most worker threads a run may ask for; far more than any machine here has cores.
+const MAX_THREADS: u32 = 1024;
+
+/// Arguments of `tumble-bench run`.
+#[derive(Debug, Args)]
+pub struct RunArgs {
+    /// A `.ron` or `.json` scene file, or a built-in scene's name.
+    #[arg(value_name = "SCENE")]
+    pub scene: String,
+    /// Steps to run [default: the scene's `steps`].
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub steps: Option<u32>,
+    /// Worker threads for the step, >= 1 [default: all cores].
+    #[arg(
+        long,
+        value_name = "T",
+        allow_negative_numbers = true,
+        value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_THREADS))
+    )]
+    pub threads: Option<u32>,
+    /// Solver substeps per step, >= 1 [default: the scene's `substeps`].
+    #[arg(
+        long,
+        value_name = "S",
+        allow_negative_numbers = true,
+        value_parser = clap::value_parser!(u32).range(1..)
+    )]
+    pub substeps: Option<u32>,
+    /// Write the JSON to FILE instead of stdout.
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// Most bodies a scene may hold.
+    #[arg(long, value_name = "N", default_value_t = Limits::default().max_bodies)]
+    pub max_bodies: usize,
+    /// Largest scene file accepted, in bytes.
+    #[arg(long, value_name = "BYTES", default_value_t = DEFAULT_MAX_FILE_BYTES)]
+    pub max_file_bytes: u64,
+}
+
+/// The document `run` writes (CONTRACT.md, section 2). Field order is the contract's.
+#[derive(Debug, Serialize)]
+struct Report {
+    scene: String,
+    steps: u32,
+    threads: usize,
+    dt: f32,
+    substeps: u32,
+    /// Simulated seconds: steps × dt.
+    time: f64,
+    state_hash: String,
+    bodies: Vec<BodyState>,
+    profile: Profile,
+    /// Contacts alive after the last step.
+    contacts: usize,
+}
+
+/// One body after the last step. serde_json writes each f32 in the shortest form that reads
+/// back to the same bits.
+#[derive(Debug, Serialize)]
+struct BodyState {
+    position: [f32; 2],
+    angle: f32,
+    linear_velocity: [f32; 2],
+    angular_velocity: f32,
+}
+
+/// `step_ms_mean` first, then `<stage>_ms_mean` per named stage in pipeline order. A map of our
+/// own so the order is kept without serde_json's `preserve_order` feature.
+#[derive(Debug)]
+struct Profile(Vec<(String, f64)>);
+
+impl Serialize for Profile {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        let mut map = serializer.serialize_map(Some(self.0.len()))?;
+        for (key, value) in &self.0 {
+            map.serialize_entry(key, value)?;
+        }
+        map.end()
+    }
+}
+
+/// Runs the scene and writes the report.
+pub fn run(args: &RunArgs) -> Result<()> {
+    let limits = LoadLimits {
+        max_file_bytes: args.max_file_bytes,
+        scene: Limits {
+            max_bodies: args.max_bodies,
+            ..Limits::default()
+        },
+    };
+    let mut scene = tumble_scene::load(&args.scene, &limits)?;
+    if let Some(substeps) = args.substeps {
+        if substeps > limits.scene.max_substeps {
+            bail!(
+                "--substeps {substeps} is too many; allowed: 1 to {}",
+                limits.scene.max_substeps
+            );
+        }
+        scene.substeps = substeps;
+    }
+    let steps = args.steps.unwrap_or(scene.steps);
+    let mut world = World::from_scene(&scene, &limits.scene)
+        .with_context(|| format!("{}: cannot build the world", args.scene))?;
+    let threads = args
+        .threads
+        .map_or_else(default_thread_count, |t| t as usize)
+        .max(1);
+    world.set_thread_count(threads);
+
+    let mut step_ms = 0.0f64;
+    let mut stage_ms: Vec<(&'static str, f64)> = Vec::new();
+    for _ in 0..steps {
+        world.step(scene.dt, scene.substeps);
+        let profile = world.profile();
+        step_ms += profile.step_ms;
+        let stages = profile.stages();
+        if stage_ms.is_empty() {
+            stage_ms = stages.iter().map(|&(name, _)| (name, 0.0)).collect();
+        }
+        for (sum, (_, ms)) in stage_ms.iter_mut().zip(stages.iter()) {
+            sum.1 += ms;
+        }
+    }
+    let mean = |total: f64| {
+        if steps == 0 {
+            0.0
+        } else {
+            total / f64::from(steps)
+        }
+    };
+    let mut profile = vec![("step_ms_mean".to_string(), mean(step_ms))];
+    profile.extend(
+        stage_ms
+            .iter()
+            .map(|&(name, total)| (format!("{name}_ms_mean"), mean(total))),
+    );
+
+    let bodies = (0..world.body_count())
+        .map(|i| {
+            let b = world.body(i);
+            BodyState {
+                position: [b.position.x, b.position.y],
+                angle: b.angle,
+                linear_velocity: [b.linear_velocity.x, b.linear_velocity.y],
+                angular_velocity: b.angular_velocity,
+            }
+        })
+        .collect();
+    let report = Report {
+        scene: scene.name.clone(),
+        steps,
+        threads: world.thread_count(),
+        dt: scene.dt,
+        substeps: scene.substeps,
+        time: f64::from(steps) * f64::from(scene.dt),
+        state_hash: format!("{:016x}", world.state_hash()),
+        bodies,
+        profile: Profile(profile),
+        contacts: world.contact_count(),
+    };
+    write_report(&report, args.out.as_ref())
+}
+
+fn write_report(report: &Report, out: Option<&PathBuf>) -> Result<()> {
+    match out {
+        Some(path) => {
+            let file = File::create(path)
+                .with_context(|| format!("cannot create the output file {}", path.display()))?;
+            write_json(file, report)
+                .with_context(|| format!("cannot write the output file {}", path.display()))
+        }
+        None => write_json(std::io::stdout().lock(), report)
+            .context("cannot write the report to stdout"),
+    }
+}
+
+fn write_json(w: impl Write, report: &Report) -> std::io::Result<()> {
+    let mut w = BufWriter::new(w);
+    serde_json::to_writer_pretty(&mut w, report)?;
+    w.write_all(b"\n")?;
+    w.flush()
+}

@@ -1,0 +1,7 @@
+//! Collision: the broad phase finds pairs of bodies whose fat boxes overlap, the narrow phase
+//! turns each pair into a contact manifold of up to two points.
+
+pub mod broad_phase;
+pub mod manifold;
+
+pub use manifold::{Manifold, ManifoldPoint, collide};

@@ -1,0 +1,47 @@
+//! tumble-physics: a 2D rigid-body engine with Box2D v3's Soft Step solver and a step that
+//! rayon runs on the world's own thread pool.
+//!
+//! The public surface is small: a [`World`] built from a [`SceneDef`] (or bodies added one by
+//! one), [`World::step`], [`StepSettings`] for the knobs that trade speed for accuracy, and a
+//! per-stage [`StepProfile`]. Everything else is flat arrays that the step's stages split
+//! across threads.
+//!
+//! # What each feature costs, and when it is skipped
+//! - **Friction**: one extra row per contact point in the relax pass; skipped for every
+//!   contact whose mixed friction is zero.
+//! - **Restitution**: one pass over all contacts after the substeps; skipped entirely when no
+//!   contact of the step has restitution above zero.
+//! - **Rotation**: bodies with `fixed_rotation` (and circles would not gain from it) have zero
+//!   inverse inertia; their rotation integration is skipped and the solver's angular terms
+//!   vanish for them.
+//! - **Damping**: the division by `1 + h·c` is skipped for bodies with zero damping.
+//! - **Narrow phase**: one routine per shape pair (circle–circle, polygon–circle,
+//!   polygon–polygon), chosen once when the contact is created.
+
+#![warn(missing_docs)]
+
+pub mod collision;
+mod error;
+mod math;
+mod profile;
+mod scene;
+mod shape;
+mod solver;
+mod world;
+
+pub use error::{PolygonError, SceneError};
+pub use glam::Vec2;
+pub use math::{Rot, Transform};
+pub use profile::StepProfile;
+pub use scene::{BodyDef, BodyKind, Limits, MAX_POLYGON_VERTICES, SceneDef, ShapeDef};
+pub use shape::{Aabb, Circle, MassData, Polygon, Shape};
+pub use world::{BodyView, ContactView, StepSettings, World, default_thread_count};
+
+/// Length tolerance used by collision (Box2D's `B2_LINEAR_SLOP`, 5 mm).
+pub const LINEAR_SLOP: f32 = 0.005;
+/// Contacts closer than this (beyond the velocity-based margin) are kept as speculative
+/// points, so bodies meet without overlapping (Box2D's `B2_SPECULATIVE_DISTANCE`, 4 slops).
+pub const SPECULATIVE_DISTANCE: f32 = 4.0 * LINEAR_SLOP;
+/// Most a body's fat AABB is grown beyond its tight box, so it need not be re-inserted
+/// into the broad phase every step (Box2D's `B2_MAX_AABB_MARGIN`).
+pub const AABB_MARGIN: f32 = 0.05;

@@ -1,0 +1,57 @@
+//! Per-step timings of each named stage of the pipeline, plus counters.
+
+/// Wall time of the last step, stage by stage, in milliseconds, and what the step saw.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StepProfile {
+    /// The whole step.
+    pub step_ms: f64,
+    /// Broad phase: rebuild the tree if fat boxes changed, find new pairs, create contacts.
+    pub broad_phase_ms: f64,
+    /// Narrow phase: a manifold for every contact; drop contacts whose boxes parted.
+    pub narrow_phase_ms: f64,
+    /// Colour the constraint graph and prepare the contact constraints.
+    pub prepare_ms: f64,
+    /// The substeps: integrate velocities, warm start, solve, integrate positions, relax.
+    pub solve_ms: f64,
+    /// Restitution pass and storing impulses for the next step's warm start.
+    pub restitution_ms: f64,
+    /// Apply the substep deltas to transforms, update bounding boxes.
+    pub finalize_ms: f64,
+    /// Bodies in the world.
+    pub bodies: usize,
+    /// Contacts (pairs whose fat boxes overlap).
+    pub contacts: usize,
+    /// Contacts with at least one manifold point.
+    pub touching: usize,
+    /// Graph colours in use (overflow not counted).
+    pub colors: usize,
+    /// Constraints that fitted no colour and were solved serially.
+    pub overflow: usize,
+    /// Proxies whose fat box changed in the last step.
+    pub moved: usize,
+}
+
+/// Names of the timed stages, in pipeline order.
+pub const STAGE_NAMES: [&str; 6] = [
+    "broad_phase",
+    "narrow_phase",
+    "prepare",
+    "solve",
+    "restitution",
+    "finalize",
+];
+
+impl StepProfile {
+    /// `(stage name, ms)` for each stage, in pipeline order.
+    pub fn stages(&self) -> [(&'static str, f64); 6] {
+        let ms = [
+            self.broad_phase_ms,
+            self.narrow_phase_ms,
+            self.prepare_ms,
+            self.solve_ms,
+            self.restitution_ms,
+            self.finalize_ms,
+        ];
+        std::array::from_fn(|i| (STAGE_NAMES[i], ms[i]))
+    }
+}

@@ -1,0 +1,386 @@
+//! The scene schema: plain serde data that scene files, built-in scenes and code share.
+//!
+//! This module knows no file format. The edges (the `tumble-scene` crate) parse RON or JSON
+//! into these types and report syntax errors with line and column; [`SceneDef::validate`]
+//! then checks the values and names the body index and field of anything it refuses.
+
+use glam::Vec2;
+use serde::{Deserialize, Serialize};
+
+use crate::error::SceneError;
+
+/// Largest polygon a scene may use (Box2D's `B2_MAX_POLYGON_VERTICES`).
+pub const MAX_POLYGON_VERTICES: usize = 8;
+
+/// How a body moves.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum BodyKind {
+    /// Never moves; infinite mass.
+    Static,
+    /// Moved by forces and contacts.
+    #[default]
+    Dynamic,
+    /// Moves with its set velocity; infinite mass, pushes dynamic bodies.
+    Kinematic,
+}
+
+/// A body's collision shape, in the body's own frame.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum ShapeDef {
+    /// A disc centred on the body.
+    Circle {
+        /// Radius in metres, > 0.
+        radius: f32,
+    },
+    /// A rectangle centred on the body.
+    Box {
+        /// Half width and half height in metres, both > 0.
+        half_extents: [f32; 2],
+    },
+    /// A convex polygon, counter-clockwise, 3 to 8 vertices, non-zero area.
+    Polygon {
+        /// Vertices in the body's frame; the loader recentres them on their centroid.
+        vertices: Vec<[f32; 2]>,
+    },
+}
+
+fn default_density() -> f32 {
+    1.0
+}
+fn default_friction() -> f32 {
+    0.6
+}
+
+/// One body of a scene. Every field but `shape` has a default (see CONTRACT.md).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodyDef {
+    /// Static, dynamic or kinematic.
+    #[serde(default)]
+    pub kind: BodyKind,
+    /// Centre of mass in the world (m).
+    #[serde(default)]
+    pub position: [f32; 2],
+    /// Orientation (rad, counter-clockwise).
+    #[serde(default)]
+    pub angle: f32,
+    /// Initial velocity of the centre of mass (m/s).
+    #[serde(default)]
+    pub linear_velocity: [f32; 2],
+    /// Initial angular velocity (rad/s).
+    #[serde(default)]
+    pub angular_velocity: f32,
+    /// Collision shape.
+    pub shape: ShapeDef,
+    /// Area density (kg/m²), > 0 for a dynamic body.
+    #[serde(default = "default_density")]
+    pub density: f32,
+    /// Coulomb friction coefficient, >= 0; pairs mix as `sqrt(a * b)`.
+    #[serde(default = "default_friction")]
+    pub friction: f32,
+    /// Coefficient of restitution, >= 0; pairs mix as `max(a, b)`.
+    #[serde(default)]
+    pub restitution: f32,
+    /// Linear damping per second of simulated time.
+    #[serde(default)]
+    pub linear_damping: f32,
+    /// Angular damping per second of simulated time.
+    #[serde(default)]
+    pub angular_damping: f32,
+    /// Whether the body may not rotate.
+    #[serde(default)]
+    pub fixed_rotation: bool,
+}
+
+impl BodyDef {
+    /// A dynamic body of the given shape at the origin with every other field at its default.
+    pub fn new(shape: ShapeDef) -> Self {
+        Self {
+            kind: BodyKind::Dynamic,
+            position: [0.0, 0.0],
+            angle: 0.0,
+            linear_velocity: [0.0, 0.0],
+            angular_velocity: 0.0,
+            shape,
+            density: default_density(),
+            friction: default_friction(),
+            restitution: 0.0,
+            linear_damping: 0.0,
+            angular_damping: 0.0,
+            fixed_rotation: false,
+        }
+    }
+
+    /// Builder: body kind.
+    pub fn kind(mut self, kind: BodyKind) -> Self {
+        self.kind = kind;
+        self
+    }
+    /// Builder: position.
+    pub fn at(mut self, x: f32, y: f32) -> Self {
+        self.position = [x, y];
+        self
+    }
+    /// Builder: angle.
+    pub fn angle(mut self, angle: f32) -> Self {
+        self.angle = angle;
+        self
+    }
+    /// Builder: linear velocity.
+    pub fn velocity(mut self, vx: f32, vy: f32) -> Self {
+        self.linear_velocity = [vx, vy];
+        self
+    }
+    /// Builder: angular velocity.
+    pub fn spin(mut self, w: f32) -> Self {
+        self.angular_velocity = w;
+        self
+    }
+    /// Builder: density.
+    pub fn density(mut self, density: f32) -> Self {
+        self.density = density;
+        self
+    }
+    /// Builder: friction.
+    pub fn friction(mut self, friction: f32) -> Self {
+        self.friction = friction;
+        self
+    }
+    /// Builder: restitution.
+    pub fn restitution(mut self, restitution: f32) -> Self {
+        self.restitution = restitution;
+        self
+    }
+    /// Builder: linear and angular damping per second.
+    pub fn damping(mut self, linear: f32, angular: f32) -> Self {
+        self.linear_damping = linear;
+        self.angular_damping = angular;
+        self
+    }
+    /// Builder: fixed rotation.
+    pub fn fixed_rotation(mut self, fixed: bool) -> Self {
+        self.fixed_rotation = fixed;
+        self
+    }
+}
+
+fn default_gravity() -> [f32; 2] {
+    [0.0, -10.0]
+}
+fn default_dt() -> f32 {
+    1.0 / 60.0
+}
+fn default_substeps() -> u32 {
+    4
+}
+fn default_steps() -> u32 {
+    600
+}
+
+/// A scene: world settings and bodies, in order (a body's index is its id).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneDef {
+    /// Shown in the UI and in reports; the loader fills in the file's stem when absent.
+    #[serde(default)]
+    pub name: String,
+    /// Gravity (m/s²).
+    #[serde(default = "default_gravity")]
+    pub gravity: [f32; 2],
+    /// Seconds per step, > 0.
+    #[serde(default = "default_dt")]
+    pub dt: f32,
+    /// Solver substeps per step, >= 1.
+    #[serde(default = "default_substeps")]
+    pub substeps: u32,
+    /// Length of a headless run when the runner is not told otherwise.
+    #[serde(default = "default_steps")]
+    pub steps: u32,
+    /// The bodies, in id order.
+    pub bodies: Vec<BodyDef>,
+}
+
+impl SceneDef {
+    /// An empty scene with the contract's defaults.
+    pub fn new(name: impl Into<String>) -> Self {
+        Self {
+            name: name.into(),
+            gravity: default_gravity(),
+            dt: default_dt(),
+            substeps: default_substeps(),
+            steps: default_steps(),
+            bodies: Vec::new(),
+        }
+    }
+
+    /// Appends a body and returns its id (index).
+    pub fn push(&mut self, body: BodyDef) -> usize {
+        self.bodies.push(body);
+        self.bodies.len() - 1
+    }
+
+    /// Checks every value the schema cannot express; the error names the field and body index.
+    pub fn validate(&self, limits: &Limits) -> Result<(), SceneError> {
+        let scene_err = |field: &str, value: String, allowed: &str| SceneError::Scene {
+            field: field.to_string(),
+            value,
+            allowed: allowed.to_string(),
+        };
+        if !(self.gravity[0].is_finite() && self.gravity[1].is_finite()) {
+            return Err(scene_err(
+                "gravity",
+                format!("{:?}", self.gravity),
+                "two finite numbers",
+            ));
+        }
+        if !(self.dt.is_finite() && self.dt > 0.0) {
+            return Err(scene_err(
+                "dt",
+                self.dt.to_string(),
+                "a finite number > 0 (seconds per step)",
+            ));
+        }
+        if self.substeps == 0 || self.substeps > limits.max_substeps {
+            return Err(scene_err(
+                "substeps",
+                self.substeps.to_string(),
+                &format!("an integer from 1 to {}", limits.max_substeps),
+            ));
+        }
+        if self.bodies.len() > limits.max_bodies {
+            return Err(SceneError::TooManyBodies {
+                count: self.bodies.len(),
+                max: limits.max_bodies,
+            });
+        }
+        for (index, body) in self.bodies.iter().enumerate() {
+            validate_body(index, body)?;
+        }
+        Ok(())
+    }
+}
+
+/// Limits on untrusted input. Raise them deliberately for huge scenes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Limits {
+    /// Most bodies a scene may hold.
+    pub max_bodies: usize,
+    /// Most substeps a scene may ask for.
+    pub max_substeps: u32,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Self {
+            max_bodies: 200_000,
+            max_substeps: 256,
+        }
+    }
+}
+
+fn finite2(v: [f32; 2]) -> bool {
+    v[0].is_finite() && v[1].is_finite()
+}
+
+fn validate_body(index: usize, body: &BodyDef) -> Result<(), SceneError> {
+    let err = |field: &str, value: String, allowed: &str| SceneError::Body {
+        index,
+        field: field.to_string(),
+        value,
+        allowed: allowed.to_string(),
+    };
+    if !finite2(body.position) {
+        return Err(err(
+            "position",
+            format!("{:?}", body.position),
+            "two finite numbers",
+        ));
+    }
+    if !body.angle.is_finite() {
+        return Err(err("angle", body.angle.to_string(), "a finite number"));
+    }
+    if !finite2(body.linear_velocity) {
+        return Err(err(
+            "linear_velocity",
+            format!("{:?}", body.linear_velocity),
+            "two finite numbers",
+        ));
+    }
+    if !body.angular_velocity.is_finite() {
+        return Err(err(
+            "angular_velocity",
+            body.angular_velocity.to_string(),
+            "a finite number",
+        ));
+    }
+    let non_negative = |field: &str, v: f32| {
+        if v.is_finite() && v >= 0.0 {
+            Ok(())
+        } else {
+            Err(err(field, v.to_string(), "a finite number >= 0"))
+        }
+    };
+    non_negative("friction", body.friction)?;
+    non_negative("restitution", body.restitution)?;
+    non_negative("linear_damping", body.linear_damping)?;
+    non_negative("angular_damping", body.angular_damping)?;
+    if !body.density.is_finite() || body.density < 0.0 {
+        return Err(err(
+            "density",
+            body.density.to_string(),
+            "a finite number >= 0 (and > 0 for a dynamic body)",
+        ));
+    }
+    if body.kind == BodyKind::Dynamic && body.density <= 0.0 {
+        return Err(err(
+            "density",
+            body.density.to_string(),
+            "a finite number > 0 for a dynamic body (only static and kinematic bodies may have zero density)",
+        ));
+    }
+    match &body.shape {
+        ShapeDef::Circle { radius } => {
+            if !(radius.is_finite() && *radius > 0.0) {
+                return Err(err(
+                    "shape.Circle.radius",
+                    radius.to_string(),
+                    "a finite number > 0 (metres)",
+                ));
+            }
+        }
+        ShapeDef::Box { half_extents } => {
+            if !(finite2(*half_extents) && half_extents[0] > 0.0 && half_extents[1] > 0.0) {
+                return Err(err(
+                    "shape.Box.half_extents",
+                    format!("{half_extents:?}"),
+                    "two finite numbers > 0 (half width, half height in metres)",
+                ));
+            }
+        }
+        ShapeDef::Polygon { vertices } => {
+            crate::shape::Polygon::from_vertices(vertices).map_err(|problem| {
+                err(
+                    "shape.Polygon.vertices",
+                    format!("{vertices:?}"),
+                    &format!(
+                        "a convex, counter-clockwise polygon of 3 to {MAX_POLYGON_VERTICES} finite vertices with non-zero area ({problem})"
+                    ),
+                )
+            })?;
+        }
+    }
+    // The world's step works in f32; shapes beyond this scale lose all precision.
+    let extent = crate::shape::Shape::from_def(&body.shape)
+        .map(|s| s.extent())
+        .unwrap_or(0.0);
+    if extent > 1.0e5 {
+        return Err(err(
+            "shape",
+            format!("extent {extent} m"),
+            "shapes up to 100 km across",
+        ));
+    }
+    let _ = Vec2::ZERO;
+    Ok(())
+}

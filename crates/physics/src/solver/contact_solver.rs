@@ -1,0 +1,306 @@
+//! Soft contact constraints: prepare, warm start, solve (with and without bias), relax with
+//! friction, restitution, store. The math is Box2D v3's Soft Step (`contact_solver.c`), as
+//! read in `shared/notes/SOFT_STEP.md` sections 2.4 to 2.11.
+
+use glam::Vec2;
+
+use crate::math::{Rot, cross, cross_sv, dot, right_perp};
+
+/// The part of a body the substep loop touches: 32 bytes, so 2 fit a cache line.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C, align(32))]
+pub struct BodyState {
+    /// Linear velocity of the centre of mass.
+    pub v: Vec2,
+    /// Angular velocity.
+    pub w: f32,
+    /// Unused padding kept for the 32-byte layout (Box2D keeps flags here).
+    pub flags: u32,
+    /// Translation accumulated over this step's substeps.
+    pub dp: Vec2,
+    /// Rotation accumulated over this step's substeps.
+    pub dq: Rot,
+}
+
+impl Default for BodyState {
+    fn default() -> Self {
+        Self {
+            v: Vec2::ZERO,
+            w: 0.0,
+            flags: 0,
+            dp: Vec2::ZERO,
+            dq: Rot::IDENTITY,
+        }
+    }
+}
+
+/// Spring-damper coefficients of a soft constraint for one substep length
+/// (Box2D `b2MakeSoft`; Catto, "Solver2D", 2024, soft step).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Softness {
+    /// How fast overlap is pushed out (1/s).
+    pub bias_rate: f32,
+    /// Weight of the velocity error.
+    pub mass_scale: f32,
+    /// Weight of the accumulated impulse (the spring's relaxation).
+    pub impulse_scale: f32,
+}
+
+impl Softness {
+    /// Implicit Euler on a spring of `hertz` and damping ratio `zeta` over a substep `h`.
+    pub fn new(hertz: f32, zeta: f32, h: f32) -> Softness {
+        if hertz == 0.0 {
+            return Softness::default();
+        }
+        let omega = 2.0 * std::f32::consts::PI * hertz;
+        let a1 = 2.0 * zeta + h * omega;
+        let a2 = h * omega * a1;
+        let a3 = 1.0 / (1.0 + a2);
+        Softness {
+            bias_rate: omega / a1,
+            mass_scale: a2 * a3,
+            impulse_scale: a3,
+        }
+    }
+}
+
+/// One point of a contact constraint.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ConstraintPoint {
+    /// Fixed anchors relative to each centre of mass (the Jacobian uses these all step).
+    pub anchor_a: Vec2,
+    /// See `anchor_a`.
+    pub anchor_b: Vec2,
+    /// Separation minus the anchors' offset along the normal, so the current separation
+    /// follows from the bodies' substep deltas alone (SOFT_STEP.md 2.5).
+    pub base_separation: f32,
+    /// Normal velocity before the solve, for restitution.
+    pub relative_velocity: f32,
+    /// Accumulated impulses.
+    pub normal_impulse: f32,
+    /// Accumulated friction impulse.
+    pub tangent_impulse: f32,
+    /// Largest normal impulse during the step.
+    pub total_normal_impulse: f32,
+    /// Effective masses along the normal and the tangent.
+    pub normal_mass: f32,
+    /// See `normal_mass`.
+    pub tangent_mass: f32,
+}
+
+/// A contact between two bodies, ready for the substep loop: everything the hot loop needs
+/// is copied in, so it never touches the contact or the body's cold data.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ContactConstraint {
+    /// Body indices.
+    pub body_a: u32,
+    /// See `body_a`.
+    pub body_b: u32,
+    /// Index of the contact this came from (to store impulses back).
+    pub contact: u32,
+    /// Whether each body is dynamic (only dynamic bodies are written).
+    pub dynamic_a: bool,
+    /// See `dynamic_a`.
+    pub dynamic_b: bool,
+    /// Inverse masses and inertias.
+    pub inv_mass_a: f32,
+    /// See `inv_mass_a`.
+    pub inv_i_a: f32,
+    /// See `inv_mass_a`.
+    pub inv_mass_b: f32,
+    /// See `inv_mass_a`.
+    pub inv_i_b: f32,
+    /// Normal from A to B, fixed for the step.
+    pub normal: Vec2,
+    /// Mixed friction, `sqrt(μa·μb)`.
+    pub friction: f32,
+    /// Mixed restitution, `max(ea, eb)`.
+    pub restitution: f32,
+    /// The contact's spring.
+    pub softness: Softness,
+    /// Points used.
+    pub count: usize,
+    /// The points.
+    pub points: [ConstraintPoint; 2],
+}
+
+/// Relative velocity of B's anchor with respect to A's.
+#[inline]
+fn relative_velocity(va: Vec2, wa: f32, ra: Vec2, vb: Vec2, wb: f32, rb: Vec2) -> Vec2 {
+    (vb + cross_sv(wb, rb)) - (va + cross_sv(wa, ra))
+}
+
+/// Reads both bodies' states.
+#[inline]
+fn read(states: &[BodyState], c: &ContactConstraint) -> (BodyState, BodyState) {
+    (states[c.body_a as usize], states[c.body_b as usize])
+}
+
+/// Writes back the velocities of the dynamic bodies only: static and kinematic bodies are
+/// shared by many constraints of one colour and must never be written.
+#[inline]
+fn write(states: &mut [BodyState], c: &ContactConstraint, a: &BodyState, b: &BodyState) {
+    if c.dynamic_a {
+        let s = &mut states[c.body_a as usize];
+        s.v = a.v;
+        s.w = a.w;
+    }
+    if c.dynamic_b {
+        let s = &mut states[c.body_b as usize];
+        s.v = b.v;
+        s.w = b.w;
+    }
+}
+
+/// Computes effective masses, base separations and the pre-solve normal velocity.
+pub fn prepare_point(c: &ContactConstraint, p: &mut ConstraintPoint, sa: &BodyState, sb: &BodyState, separation: f32) {
+    let n = c.normal;
+    let t = right_perp(n);
+    let (ra, rb) = (p.anchor_a, p.anchor_b);
+    p.base_separation = separation - dot(rb - ra, n);
+    let rna = cross(ra, n);
+    let rnb = cross(rb, n);
+    let k_normal = c.inv_mass_a + c.inv_mass_b + c.inv_i_a * rna * rna + c.inv_i_b * rnb * rnb;
+    p.normal_mass = if k_normal > 0.0 { 1.0 / k_normal } else { 0.0 };
+    let rta = cross(ra, t);
+    let rtb = cross(rb, t);
+    let k_tangent = c.inv_mass_a + c.inv_mass_b + c.inv_i_a * rta * rta + c.inv_i_b * rtb * rtb;
+    p.tangent_mass = if k_tangent > 0.0 { 1.0 / k_tangent } else { 0.0 };
+    p.total_normal_impulse = 0.0;
+    p.relative_velocity = dot(n, relative_velocity(sa.v, sa.w, ra, sb.v, sb.w, rb));
+}
+
+/// Applies last step's accumulated impulses again at the start of a substep.
+pub fn warm_start(constraints: &[ContactConstraint], states: &mut [BodyState]) {
+    for c in constraints {
+        let (mut a, mut b) = read(states, c);
+        let n = c.normal;
+        let t = right_perp(n);
+        for p in &c.points[..c.count] {
+            let impulse = n * p.normal_impulse + t * p.tangent_impulse;
+            a.w -= c.inv_i_a * cross(p.anchor_a, impulse);
+            a.v -= impulse * c.inv_mass_a;
+            b.w += c.inv_i_b * cross(p.anchor_b, impulse);
+            b.v += impulse * c.inv_mass_b;
+        }
+        write(states, c, &a, &b);
+    }
+}
+
+/// One pass of the normal constraints, soft with bias (`use_bias`) or rigid without (relax);
+/// the relax pass also solves friction (Box2D HEAD does friction in relax only).
+pub fn solve(
+    constraints: &mut [ContactConstraint],
+    states: &mut [BodyState],
+    inv_h: f32,
+    use_bias: bool,
+    max_push_speed: f32,
+) {
+    for c in constraints {
+        let (mut a, mut b) = read(states, c);
+        let n = c.normal;
+        let dp = b.dp - a.dp;
+        let mut total_normal = 0.0;
+        for p in &mut c.points[..c.count] {
+            // Current separation from the substep deltas; the normal stays fixed.
+            let prb = b.dq.apply(p.anchor_b);
+            let pra = a.dq.apply(p.anchor_a);
+            let d = dp + (prb - pra);
+            let s = dot(d, n) + p.base_separation;
+            let (bias, mass_scale, impulse_scale) = if s > 0.0 {
+                // Speculative: close the gap within this substep, no softness.
+                (s * inv_h, 1.0, 0.0)
+            } else if use_bias {
+                (
+                    (c.softness.mass_scale * c.softness.bias_rate * s).max(-max_push_speed),
+                    c.softness.mass_scale,
+                    c.softness.impulse_scale,
+                )
+            } else {
+                (0.0, 1.0, 0.0)
+            };
+            let (ra, rb) = (p.anchor_a, p.anchor_b);
+            let vn = dot(relative_velocity(a.v, a.w, ra, b.v, b.w, rb), n);
+            let impulse = -p.normal_mass * (mass_scale * vn + bias) - impulse_scale * p.normal_impulse;
+            let new_impulse = (p.normal_impulse + impulse).max(0.0);
+            let applied = new_impulse - p.normal_impulse;
+            p.normal_impulse = new_impulse;
+            p.total_normal_impulse = p.total_normal_impulse.max(new_impulse);
+            total_normal += new_impulse;
+            let pv = n * applied;
+            a.v -= pv * c.inv_mass_a;
+            a.w -= c.inv_i_a * cross(ra, pv);
+            b.v += pv * c.inv_mass_b;
+            b.w += c.inv_i_b * cross(rb, pv);
+        }
+        // Friction: skipped outright for frictionless pairs (model only what a scene needs).
+        if !use_bias && c.friction > 0.0 {
+            let t = right_perp(n);
+            for p in &mut c.points[..c.count] {
+                let (ra, rb) = (p.anchor_a, p.anchor_b);
+                let vt = dot(relative_velocity(a.v, a.w, ra, b.v, b.w, rb), t);
+                let impulse = -p.tangent_mass * vt;
+                let max_friction = c.friction * p.normal_impulse;
+                let new_impulse = (p.tangent_impulse + impulse).clamp(-max_friction, max_friction);
+                let applied = new_impulse - p.tangent_impulse;
+                p.tangent_impulse = new_impulse;
+                let pt = t * applied;
+                a.v -= pt * c.inv_mass_a;
+                a.w -= c.inv_i_a * cross(ra, pt);
+                b.v += pt * c.inv_mass_b;
+                b.w += c.inv_i_b * cross(rb, pt);
+            }
+        }
+        let _ = total_normal;
+        write(states, c, &a, &b);
+    }
+}
+
+/// Restitution, once per step after the substeps: points that approached faster than the
+/// threshold and actually pushed get their rebound velocity `-e·vn` (SOFT_STEP.md 2.10).
+pub fn apply_restitution(constraints: &mut [ContactConstraint], states: &mut [BodyState], threshold: f32) {
+    for c in constraints {
+        if c.restitution == 0.0 {
+            continue;
+        }
+        let (mut a, mut b) = read(states, c);
+        let n = c.normal;
+        for p in &mut c.points[..c.count] {
+            if p.relative_velocity > -threshold || p.total_normal_impulse == 0.0 {
+                continue;
+            }
+            let (ra, rb) = (p.anchor_a, p.anchor_b);
+            let vn = dot(relative_velocity(a.v, a.w, ra, b.v, b.w, rb), n);
+            let impulse = -p.normal_mass * (vn + c.restitution * p.relative_velocity);
+            let new_impulse = (p.normal_impulse + impulse).max(0.0);
+            let applied = new_impulse - p.normal_impulse;
+            p.normal_impulse = new_impulse;
+            p.total_normal_impulse = p.total_normal_impulse.max(new_impulse);
+            let pv = n * applied;
+            a.v -= pv * c.inv_mass_a;
+            a.w -= c.inv_i_a * cross(ra, pv);
+            b.v += pv * c.inv_mass_b;
+            b.w += c.inv_i_b * cross(rb, pv);
+        }
+        write(states, c, &a, &b);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn softness_matches_box2d_defaults() {
+        // SOFT_STEP.md 2.3 table: 30 Hz, ζ 10, h = 1/240 gives biasRate 9.069/s,
+        // massScale 0.9423, impulseScale 0.0577 (4 significant figures there).
+        let s = Softness::new(30.0, 10.0, 1.0 / 240.0);
+        assert!((s.bias_rate - 9.069).abs() < 5e-3, "{}", s.bias_rate);
+        assert!((s.mass_scale - 0.9423).abs() < 5e-4);
+        assert!((s.impulse_scale - 0.0577).abs() < 5e-4);
+        // The two scales always sum to one.
+        assert!((s.mass_scale + s.impulse_scale - 1.0).abs() < 1e-6);
+        let st = Softness::new(60.0, 10.0, 1.0 / 240.0);
+        assert!((st.bias_rate - 17.48).abs() < 1e-2);
+    }
+}

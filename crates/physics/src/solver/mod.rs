@@ -1,0 +1,225 @@
+//! The solver stages of one step, in order (Box2D v3's `b2SolverStage` list):
+//!
+//! 1. **prepare**: colour the touching contacts, copy them into constraints ordered by colour
+//!    (overflow first), compute effective masses and base separations;
+//! 2. **substeps**, each: integrate velocities → warm start → solve (soft, with bias) →
+//!    integrate positions → relax (rigid, no bias, with friction) × `relax_iterations`;
+//! 3. **restitution** once (skipped when no constraint bounces), then **store** the
+//!    accumulated impulses into the contacts for the next step's warm start.
+//!
+//! Each colour's constraints touch disjoint dynamic bodies; the passes walk colours in order.
+
+pub mod contact_solver;
+pub mod graph_color;
+
+use glam::Vec2;
+
+use crate::collision::Manifold;
+use crate::math::dot;
+use contact_solver::{BodyState, ConstraintPoint, ContactConstraint, Softness};
+use graph_color::{COLOR_COUNT, GraphColoring, OVERFLOW};
+
+/// What prepare needs to know of a body.
+#[derive(Clone, Copy, Debug)]
+pub struct SolverBody {
+    /// Inverse mass (0 for static and kinematic bodies).
+    pub inv_mass: f32,
+    /// Inverse rotational inertia (0 for those and for fixed-rotation bodies).
+    pub inv_inertia: f32,
+    /// Whether the body is dynamic.
+    pub dynamic: bool,
+}
+
+/// The contact data prepare reads.
+#[derive(Clone, Copy)]
+pub struct ContactInput<'a> {
+    /// Bodies of the pair.
+    pub body_a: u32,
+    /// See `body_a`.
+    pub body_b: u32,
+    /// Mixed friction.
+    pub friction: f32,
+    /// Mixed restitution.
+    pub restitution: f32,
+    /// This step's manifold (with warm-start impulses).
+    pub manifold: &'a Manifold,
+}
+
+/// Constraint buffers reused from step to step.
+#[derive(Default, Debug, Clone)]
+pub struct Solver {
+    /// Constraints ordered by colour: overflow first, then colours 0..COLOR_COUNT-1.
+    pub constraints: Vec<ContactConstraint>,
+    /// `color_ranges[k]` is the range of `constraints` solved as stage k: k = 0 is the
+    /// overflow, k = 1 + c is colour c.
+    pub color_ranges: Vec<std::ops::Range<usize>>,
+    coloring: GraphColoring,
+    color_of: Vec<u8>,
+    /// Whether any constraint of this step has restitution.
+    pub any_restitution: bool,
+}
+
+/// The knobs the solver reads each step.
+#[derive(Clone, Copy, Debug)]
+pub struct SolverParams {
+    /// Spring for contacts between two dynamic bodies.
+    pub contact_softness: Softness,
+    /// Stiffer spring against static and kinematic bodies.
+    pub static_softness: Softness,
+    /// Whether last step's impulses seed this step.
+    pub warm_starting: bool,
+}
+
+impl Solver {
+    /// Colours the touching contacts and builds their constraints; `touching` lists contact
+    /// indices in contact order.
+    pub fn prepare<'a>(
+        &mut self,
+        touching: &[(u32, ContactInput<'a>)],
+        bodies: &[SolverBody],
+        states: &[BodyState],
+        params: &SolverParams,
+    ) {
+        self.coloring.reset(bodies.len());
+        self.color_of.clear();
+        let mut counts = [0usize; COLOR_COUNT];
+        for (_, c) in touching {
+            let a = bodies[c.body_a as usize].dynamic.then_some(c.body_a as usize);
+            let b = bodies[c.body_b as usize].dynamic.then_some(c.body_b as usize);
+            let color = self.coloring.assign(a, b);
+            counts[color] += 1;
+            self.color_of.push(color as u8);
+        }
+        // Stage order: overflow, then colours ascending.
+        let order: Vec<usize> = std::iter::once(OVERFLOW).chain(0..OVERFLOW).collect();
+        let mut start = [0usize; COLOR_COUNT];
+        self.color_ranges.clear();
+        let mut offset = 0;
+        for &color in &order {
+            start[color] = offset;
+            self.color_ranges.push(offset..offset + counts[color]);
+            offset += counts[color];
+        }
+        self.constraints.clear();
+        self.constraints.resize(offset, ContactConstraint::default());
+        self.any_restitution = false;
+        let mut cursor = start;
+        for (k, &(contact_index, c)) in touching.iter().enumerate() {
+            let color = self.color_of[k] as usize;
+            let slot = cursor[color];
+            cursor[color] += 1;
+            let ba = bodies[c.body_a as usize];
+            let bb = bodies[c.body_b as usize];
+            let m = c.manifold;
+            let mut con = ContactConstraint {
+                body_a: c.body_a,
+                body_b: c.body_b,
+                contact: contact_index,
+                dynamic_a: ba.dynamic,
+                dynamic_b: bb.dynamic,
+                inv_mass_a: ba.inv_mass,
+                inv_i_a: ba.inv_inertia,
+                inv_mass_b: bb.inv_mass,
+                inv_i_b: bb.inv_inertia,
+                normal: m.normal,
+                friction: c.friction,
+                restitution: c.restitution,
+                softness: if ba.dynamic && bb.dynamic {
+                    params.contact_softness
+                } else {
+                    params.static_softness
+                },
+                count: m.count,
+                points: [ConstraintPoint::default(); 2],
+            };
+            self.any_restitution |= c.restitution > 0.0;
+            let sa = &states[c.body_a as usize];
+            let sb = &states[c.body_b as usize];
+            for (i, mp) in m.points().iter().enumerate() {
+                let mut p = ConstraintPoint {
+                    anchor_a: mp.anchor_a,
+                    anchor_b: mp.anchor_b,
+                    ..ConstraintPoint::default()
+                };
+                if params.warm_starting {
+                    p.normal_impulse = mp.normal_impulse;
+                    p.tangent_impulse = mp.tangent_impulse;
+                }
+                contact_solver::prepare_point(&con, &mut p, sa, sb, mp.separation);
+                con.points[i] = p;
+            }
+            self.constraints[slot] = con;
+        }
+    }
+
+    /// Colours in use, overflow not counted.
+    pub fn active_colors(&self) -> usize {
+        self.color_ranges[1..].iter().filter(|r| !r.is_empty()).count()
+    }
+
+    /// Constraints in the overflow.
+    pub fn overflow_count(&self) -> usize {
+        self.color_ranges[0].len()
+    }
+
+    /// Warm start, every colour in order.
+    pub fn warm_start(&self, states: &mut [BodyState]) {
+        for r in &self.color_ranges {
+            contact_solver::warm_start(&self.constraints[r.clone()], states);
+        }
+    }
+
+    /// One solve or relax pass, every colour in order.
+    pub fn solve(&mut self, states: &mut [BodyState], inv_h: f32, use_bias: bool, max_push: f32) {
+        for r in &self.color_ranges {
+            contact_solver::solve(&mut self.constraints[r.clone()], states, inv_h, use_bias, max_push);
+        }
+    }
+
+    /// The restitution pass.
+    pub fn restitution(&mut self, states: &mut [BodyState], threshold: f32) {
+        for r in &self.color_ranges {
+            contact_solver::apply_restitution(&mut self.constraints[r.clone()], states, threshold);
+        }
+    }
+}
+
+/// Integrates one dynamic body's velocity over a substep: damping as the Padé approximation
+/// `1/(1 + h·c)` of `exp(-c·h)`, so it is defined per second whatever the step (Box2D
+/// `b2IntegrateVelocitiesTask`); gravity added undamped.
+#[inline]
+pub fn integrate_velocity(s: &mut BodyState, gravity: Vec2, h: f32, linear_damping: f32, angular_damping: f32) {
+    let mut v = s.v;
+    let mut w = s.w;
+    if linear_damping > 0.0 {
+        v *= 1.0 / (1.0 + h * linear_damping);
+    }
+    if angular_damping > 0.0 {
+        w *= 1.0 / (1.0 + h * angular_damping);
+    }
+    s.v = v + gravity * h;
+    s.w = w;
+}
+
+/// Advances a body's substep deltas; speeds beyond the caps are clamped first (Box2D's
+/// `maxLinearSpeed`, and at most a quarter turn per substep so the first-order rotation
+/// stays accurate). Returns whether a cap bit.
+#[inline]
+pub fn integrate_position(s: &mut BodyState, h: f32, max_linear_speed: f32, rotates: bool) -> bool {
+    let mut capped = false;
+    let speed2 = dot(s.v, s.v);
+    if speed2 > max_linear_speed * max_linear_speed {
+        s.v *= max_linear_speed / speed2.sqrt();
+        capped = true;
+    }
+    s.dp += s.v * h;
+    if rotates {
+        let max_w = 0.25 * std::f32::consts::PI / h;
+        if s.w.abs() > max_w {
+            s.w = s.w.clamp(-max_w, max_w);
+            capped = true;
+        }
+        s.dq = s.dq.integrate(h * s.w);
+    }
+    capped
+}

@@ -1,0 +1,747 @@
+//! The world: bodies and contacts in flat arrays, the thread pool, and the step pipeline.
+//!
+//! `step` runs the stages in order, each timed into [`StepProfile`]:
+//! broad phase → narrow phase → prepare → substeps (solve) → restitution → finalize.
+//! Stages that run in parallel (narrow phase, finalize) write only their own index's slot, so
+//! their results are the same on any thread count.
+
+use std::time::Instant;
+
+use glam::Vec2;
+use rayon::prelude::*;
+use rustc_hash::FxHashMap;
+
+use crate::collision::broad_phase::BroadPhase;
+use crate::collision::{Manifold, collide};
+use crate::error::SceneError;
+use crate::math::{Rot, Transform};
+use crate::profile::StepProfile;
+use crate::scene::{BodyDef, BodyKind, Limits, SceneDef};
+use crate::shape::{Aabb, Shape};
+use crate::solver::contact_solver::{BodyState, Softness};
+use crate::solver::{
+    ContactInput, Solver, SolverBody, SolverParams, integrate_position, integrate_velocity,
+};
+use crate::{AABB_MARGIN, SPECULATIVE_DISTANCE};
+
+/// The knobs of the step that trade speed for accuracy. Defaults are Box2D v3's.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepSettings {
+    /// Gravity (m/s²).
+    pub gravity: Vec2,
+    /// Stiffness of contacts (Hz); clamped to an eighth of the substep rate, which keeps low
+    /// substep counts stable (SOFT_STEP.md 2.3). Contacts against static bodies use twice it.
+    pub contact_hertz: f32,
+    /// Damping ratio of the contact spring (Box2D: 10, heavily over-damped).
+    pub contact_damping_ratio: f32,
+    /// Fastest that overlap is pushed apart (m/s), Box2D's `contactSpeed`.
+    pub max_push_speed: f32,
+    /// Rigid relax passes per substep after the soft solve (Box2D: 1).
+    pub relax_iterations: u32,
+    /// Approach speed (m/s) below which restitution is not applied.
+    pub restitution_threshold: f32,
+    /// Speed cap (m/s), Box2D's `maxLinearSpeed`.
+    pub max_linear_speed: f32,
+    /// Seed each step's solve with the last step's impulses.
+    pub warm_starting: bool,
+}
+
+impl Default for StepSettings {
+    fn default() -> Self {
+        Self {
+            gravity: Vec2::new(0.0, -10.0),
+            contact_hertz: 30.0,
+            contact_damping_ratio: 10.0,
+            max_push_speed: 3.0,
+            relax_iterations: 1,
+            restitution_threshold: 1.0,
+            max_linear_speed: 400.0,
+            warm_starting: true,
+        }
+    }
+}
+
+/// A body's state as the outside sees it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BodyView {
+    /// Centre of mass.
+    pub position: Vec2,
+    /// Orientation (rad), in (-π, π].
+    pub angle: f32,
+    /// Orientation as cosine and sine (exact state; `angle` is derived).
+    pub rotation: Rot,
+    /// Velocity of the centre of mass.
+    pub linear_velocity: Vec2,
+    /// Angular velocity.
+    pub angular_velocity: f32,
+    /// Static, dynamic or kinematic.
+    pub kind: BodyKind,
+}
+
+/// A contact as the outside sees it (for debug drawing and tests).
+#[derive(Clone, Copy, Debug)]
+pub struct ContactView<'a> {
+    /// First body (the polygon, when a polygon meets a circle).
+    pub body_a: usize,
+    /// Second body.
+    pub body_b: usize,
+    /// The manifold, with last step's impulses.
+    pub manifold: &'a Manifold,
+}
+
+/// Number of cores, the default thread count.
+pub fn default_thread_count() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// Per-body data that the step reads but the substep loop does not.
+#[derive(Clone, Copy, Debug)]
+struct BodySim {
+    xf: Transform,
+    kind: BodyKind,
+    inv_inertia: f32,
+    linear_damping: f32,
+    angular_damping: f32,
+    friction: f32,
+    restitution: f32,
+    /// Largest centre-to-surface distance, for rotation-swept bounds.
+    extent: f32,
+    /// Fat-box margin for this body.
+    margin: f32,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Contact {
+    body_a: u32,
+    body_b: u32,
+    friction: f32,
+    restitution: f32,
+    manifold: Manifold,
+    /// Set by the narrow phase when the fat boxes no longer overlap.
+    remove: bool,
+}
+
+#[inline]
+fn pair_key(a: u32, b: u32) -> u64 {
+    let (lo, hi) = if a < b { (a, b) } else { (b, a) };
+    (u64::from(lo) << 32) | u64::from(hi)
+}
+
+/// A 2D rigid-body world.
+pub struct World {
+    settings: StepSettings,
+    shapes: Vec<Shape>,
+    sims: Vec<BodySim>,
+    states: Vec<BodyState>,
+    fat_aabbs: Vec<Aabb>,
+    /// Proxies whose fat box changed since the last pair search.
+    moved: Vec<u32>,
+    moved_flags: Vec<bool>,
+    tree_dirty: bool,
+    broad_phase: BroadPhase,
+    contacts: Vec<Contact>,
+    pairs: FxHashMap<u64, u32>,
+    solver: Solver,
+    solver_bodies: Vec<SolverBody>,
+    pool: std::sync::Arc<rayon::ThreadPool>,
+    threads: usize,
+    profile: StepProfile,
+    steps: u64,
+    speed_caps: u64,
+}
+
+fn build_pool(threads: usize) -> std::sync::Arc<rayon::ThreadPool> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .thread_name(|i| format!("tumble-step-{i}"))
+        .build()
+        // Building a pool only fails if the OS refuses threads; then nothing can run.
+        .expect("the OS refused to start the step's worker threads");
+    std::sync::Arc::new(pool)
+}
+
+impl World {
+    /// An empty world with the given settings, on all cores.
+    pub fn new(settings: StepSettings) -> World {
+        let threads = default_thread_count();
+        World {
+            settings,
+            shapes: Vec::new(),
+            sims: Vec::new(),
+            states: Vec::new(),
+            fat_aabbs: Vec::new(),
+            moved: Vec::new(),
+            moved_flags: Vec::new(),
+            tree_dirty: true,
+            broad_phase: BroadPhase::default(),
+            contacts: Vec::new(),
+            pairs: FxHashMap::default(),
+            solver: Solver::default(),
+            solver_bodies: Vec::new(),
+            pool: build_pool(threads),
+            threads,
+            profile: StepProfile::default(),
+            steps: 0,
+            speed_caps: 0,
+        }
+    }
+
+    /// Validates a scene (with `limits`) and builds its world; body ids follow the scene's
+    /// order. The scene's `dt` and `substeps` are the caller's to pass to [`World::step`].
+    pub fn from_scene(scene: &SceneDef, limits: &Limits) -> Result<World, SceneError> {
+        scene.validate(limits)?;
+        let mut world = World::new(StepSettings {
+            gravity: Vec2::from(scene.gravity),
+            ..StepSettings::default()
+        });
+        world.reserve(scene.bodies.len());
+        for (i, body) in scene.bodies.iter().enumerate() {
+            world.add_body(body).map_err(|e| match e {
+                SceneError::Body {
+                    field,
+                    value,
+                    allowed,
+                    ..
+                } => SceneError::Body {
+                    index: i,
+                    field,
+                    value,
+                    allowed,
+                },
+                other => other,
+            })?;
+        }
+        Ok(world)
+    }
+
+    fn reserve(&mut self, n: usize) {
+        self.shapes.reserve(n);
+        self.sims.reserve(n);
+        self.states.reserve(n);
+        self.fat_aabbs.reserve(n);
+    }
+
+    /// Adds a body and returns its id. The body is checked as a scene body would be.
+    pub fn add_body(&mut self, def: &BodyDef) -> Result<usize, SceneError> {
+        let index = self.sims.len();
+        let one = SceneDef {
+            bodies: vec![def.clone()],
+            ..SceneDef::new("")
+        };
+        one.validate(&Limits::default()).map_err(|e| match e {
+            SceneError::Body {
+                field,
+                value,
+                allowed,
+                ..
+            } => SceneError::Body {
+                index,
+                field,
+                value,
+                allowed,
+            },
+            other => other,
+        })?;
+        // Validation has checked the polygon, so this cannot fail.
+        let shape = Shape::from_def(&def.shape).map_err(|e| SceneError::Body {
+            index,
+            field: "shape".into(),
+            value: e.to_string(),
+            allowed: "a valid shape".into(),
+        })?;
+        let (inv_mass, inv_inertia) = match def.kind {
+            BodyKind::Dynamic => {
+                let md = shape.mass(def.density);
+                let inv_i = if def.fixed_rotation || md.inertia <= 0.0 {
+                    0.0
+                } else {
+                    1.0 / md.inertia
+                };
+                (1.0 / md.mass, inv_i)
+            }
+            _ => (0.0, 0.0),
+        };
+        let extent = shape.extent();
+        let margin = match def.kind {
+            BodyKind::Static => 0.0,
+            // Box2D `b2ComputeShapeMargin`: small shapes get proportionally small margins.
+            _ => AABB_MARGIN.min(0.125 * extent),
+        };
+        let xf = Transform {
+            p: Vec2::from(def.position),
+            q: Rot::from_angle(def.angle),
+        };
+        let rotates = !(def.kind == BodyKind::Dynamic && def.fixed_rotation);
+        let state = BodyState {
+            v: Vec2::from(def.linear_velocity),
+            w: if rotates { def.angular_velocity } else { 0.0 },
+            ..BodyState::default()
+        };
+        let sim = BodySim {
+            xf,
+            kind: def.kind,
+            inv_inertia,
+            linear_damping: def.linear_damping,
+            angular_damping: def.angular_damping,
+            friction: def.friction,
+            restitution: def.restitution,
+            extent,
+            margin,
+        };
+        let aabb = swept_aabb(&shape, &sim, &state, 1.0 / 60.0).grown(margin);
+        self.shapes.push(shape);
+        self.sims.push(sim);
+        self.states.push(state);
+        self.fat_aabbs.push(aabb);
+        self.moved.push(index as u32);
+        self.moved_flags.push(true);
+        self.solver_bodies.push(SolverBody {
+            inv_mass,
+            inv_inertia,
+            dynamic: def.kind == BodyKind::Dynamic,
+        });
+        self.tree_dirty = true;
+        Ok(index)
+    }
+
+    /// The step's settings.
+    pub fn settings(&self) -> &StepSettings {
+        &self.settings
+    }
+
+    /// The step's settings, to change between steps.
+    pub fn settings_mut(&mut self) -> &mut StepSettings {
+        &mut self.settings
+    }
+
+    /// Sets the worker threads for the next steps (at least 1). Results do not change.
+    pub fn set_thread_count(&mut self, threads: usize) {
+        let threads = threads.max(1);
+        if threads != self.threads {
+            self.pool = build_pool(threads);
+            self.threads = threads;
+        }
+    }
+
+    /// Worker threads the step uses.
+    pub fn thread_count(&self) -> usize {
+        self.threads
+    }
+
+    /// Bodies in the world.
+    pub fn body_count(&self) -> usize {
+        self.sims.len()
+    }
+
+    /// Contacts (pairs of overlapping fat boxes).
+    pub fn contact_count(&self) -> usize {
+        self.contacts.len()
+    }
+
+    /// Steps taken so far.
+    pub fn step_count(&self) -> u64 {
+        self.steps
+    }
+
+    /// How often a body's speed was clamped to the caps, over all steps.
+    pub fn speed_cap_count(&self) -> u64 {
+        self.speed_caps
+    }
+
+    /// One body's state.
+    pub fn body(&self, index: usize) -> BodyView {
+        let sim = &self.sims[index];
+        let st = &self.states[index];
+        BodyView {
+            position: sim.xf.p,
+            angle: sim.xf.q.angle(),
+            rotation: sim.xf.q,
+            linear_velocity: st.v,
+            angular_velocity: st.w,
+            kind: sim.kind,
+        }
+    }
+
+    /// A body's shape, in its own frame.
+    pub fn shape(&self, index: usize) -> &Shape {
+        &self.shapes[index]
+    }
+
+    /// A body's fat bounding box, as the broad phase sees it.
+    pub fn fat_aabb(&self, index: usize) -> Aabb {
+        self.fat_aabbs[index]
+    }
+
+    /// The broad phase's tree, for debug drawing.
+    pub fn broad_phase(&self) -> &BroadPhase {
+        &self.broad_phase
+    }
+
+    /// Every contact, in the deterministic order the solver sees them.
+    pub fn contacts(&self) -> impl Iterator<Item = ContactView<'_>> {
+        self.contacts.iter().map(|c| ContactView {
+            body_a: c.body_a as usize,
+            body_b: c.body_b as usize,
+            manifold: &c.manifold,
+        })
+    }
+
+    /// Sets a body's velocities (e.g. a mouse drag); ignored for static bodies.
+    pub fn set_velocity(&mut self, index: usize, linear: Vec2, angular: f32) {
+        if self.sims[index].kind == BodyKind::Static {
+            return;
+        }
+        let s = &mut self.states[index];
+        s.v = linear;
+        if self.sims[index].inv_inertia > 0.0 || self.sims[index].kind == BodyKind::Kinematic {
+            s.w = angular;
+        }
+    }
+
+    /// The last step's per-stage profile.
+    pub fn profile(&self) -> &StepProfile {
+        &self.profile
+    }
+
+    /// FNV-1a, 64-bit, over the exact bits of every body's position, rotation (cos, sin),
+    /// linear and angular velocity, in id order.
+    pub fn state_hash(&self) -> u64 {
+        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+        let mut eat = |x: f32| {
+            for byte in x.to_bits().to_le_bytes() {
+                h ^= u64::from(byte);
+                h = h.wrapping_mul(0x0000_0100_0000_01b3);
+            }
+        };
+        for (sim, st) in self.sims.iter().zip(&self.states) {
+            eat(sim.xf.p.x);
+            eat(sim.xf.p.y);
+            eat(sim.xf.q.c);
+            eat(sim.xf.q.s);
+            eat(st.v.x);
+            eat(st.v.y);
+            eat(st.w);
+        }
+        h
+    }
+
+    /// Advances the world by `dt` seconds in `substeps` solver substeps.
+    pub fn step(&mut self, dt: f32, substeps: u32) {
+        let start = Instant::now();
+        let mut profile = StepProfile::default();
+        if !(dt > 0.0 && dt.is_finite()) || substeps == 0 {
+            self.profile = profile;
+            return;
+        }
+        let pool = self.pool.clone();
+        pool.install(|| {
+            let t = Instant::now();
+            self.update_pairs();
+            profile.broad_phase_ms = ms(t);
+
+            let t = Instant::now();
+            self.collide(dt);
+            profile.narrow_phase_ms = ms(t);
+
+            self.solve(dt, substeps, &mut profile);
+
+            let t = Instant::now();
+            self.finalize(dt);
+            profile.finalize_ms = ms(t);
+        });
+        self.steps += 1;
+        profile.bodies = self.sims.len();
+        profile.contacts = self.contacts.len();
+        profile.moved = self.moved.len();
+        profile.step_ms = ms(start);
+        self.profile = profile;
+    }
+
+    /// Broad phase: rebuild the tree if a fat box changed, then find the new pairs of every
+    /// moved proxy (in parallel, each into its own list) and create their contacts serially
+    /// in moved order.
+    fn update_pairs(&mut self) {
+        if self.moved.is_empty() {
+            return;
+        }
+        if self.tree_dirty {
+            self.broad_phase.rebuild(&self.fat_aabbs);
+            self.tree_dirty = false;
+        }
+        let bp = &self.broad_phase;
+        let aabbs = &self.fat_aabbs;
+        let sims = &self.sims;
+        let moved_flags = &self.moved_flags;
+        let pairs = &self.pairs;
+        let found: Vec<Vec<u32>> = self
+            .moved
+            .par_iter()
+            .with_min_len(64)
+            .map(|&i| {
+                let mut out = Vec::new();
+                let kind_i = sims[i as usize].kind;
+                bp.query(&aabbs[i as usize], aabbs, |j| {
+                    if j == i {
+                        return;
+                    }
+                    // A pair of moved proxies is found from the larger id only.
+                    if moved_flags[j as usize] && j > i {
+                        return;
+                    }
+                    // Only pairs with a dynamic body can ever push anything.
+                    if kind_i != BodyKind::Dynamic && sims[j as usize].kind != BodyKind::Dynamic {
+                        return;
+                    }
+                    if pairs.contains_key(&pair_key(i, j)) {
+                        return;
+                    }
+                    out.push(j);
+                });
+                out.sort_unstable();
+                out
+            })
+            .collect();
+        let mut moved = std::mem::take(&mut self.moved);
+        for (k, &i) in moved.iter().enumerate() {
+            for &j in &found[k] {
+                self.create_contact(i, j);
+            }
+        }
+        for &i in &moved {
+            self.moved_flags[i as usize] = false;
+        }
+        moved.clear();
+        self.moved = moved;
+    }
+
+    fn create_contact(&mut self, i: u32, j: u32) {
+        // Polygon first when a polygon meets a circle; otherwise the lower id first.
+        let (mut a, mut b) = if i < j { (i, j) } else { (j, i) };
+        if matches!(self.shapes[a as usize], Shape::Circle(_))
+            && matches!(self.shapes[b as usize], Shape::Polygon(_))
+        {
+            std::mem::swap(&mut a, &mut b);
+        }
+        let sa = &self.sims[a as usize];
+        let sb = &self.sims[b as usize];
+        let contact = Contact {
+            body_a: a,
+            body_b: b,
+            // Mixing rules: Box2D's defaults (and the contract's).
+            friction: (sa.friction * sb.friction).sqrt(),
+            restitution: sa.restitution.max(sb.restitution),
+            manifold: Manifold::default(),
+            remove: false,
+        };
+        self.pairs
+            .insert(pair_key(a, b), self.contacts.len() as u32);
+        self.contacts.push(contact);
+    }
+
+    /// Narrow phase: every contact computes its manifold into its own slot, carrying
+    /// impulses over by feature id; contacts whose fat boxes parted are then removed in
+    /// descending index order, so the surviving order is deterministic.
+    fn collide(&mut self, dt: f32) {
+        let sims = &self.sims;
+        let states = &self.states;
+        let shapes = &self.shapes;
+        let aabbs = &self.fat_aabbs;
+        self.contacts
+            .par_iter_mut()
+            .with_min_len(64)
+            .for_each(|c| {
+                let (a, b) = (c.body_a as usize, c.body_b as usize);
+                if !aabbs[a].overlaps(&aabbs[b]) {
+                    c.remove = true;
+                    return;
+                }
+                // Speculative margin: how far the pair can close in one step, so bodies meet
+                // without tunnelling at ordinary speeds.
+                let (sa, sb) = (&states[a], &states[b]);
+                let closing = (sb.v - sa.v).length()
+                    + sa.w.abs() * sims[a].extent
+                    + sb.w.abs() * sims[b].extent;
+                let max_distance = SPECULATIVE_DISTANCE + dt * closing;
+                let old = c.manifold;
+                let mut m = collide(&shapes[a], sims[a].xf, &shapes[b], sims[b].xf, max_distance);
+                for p in &mut m.points[..m.count] {
+                    if let Some(o) = old.points().iter().find(|o| o.id == p.id) {
+                        p.normal_impulse = o.normal_impulse;
+                        p.tangent_impulse = o.tangent_impulse;
+                        p.persisted = true;
+                    }
+                }
+                c.manifold = m;
+            });
+        for k in (0..self.contacts.len()).rev() {
+            if self.contacts[k].remove {
+                let c = self.contacts.swap_remove(k);
+                self.pairs.remove(&pair_key(c.body_a, c.body_b));
+                if k < self.contacts.len() {
+                    let moved = &self.contacts[k];
+                    self.pairs
+                        .insert(pair_key(moved.body_a, moved.body_b), k as u32);
+                }
+            }
+        }
+    }
+
+    /// Prepare, the substep loop, restitution and storing impulses.
+    fn solve(&mut self, dt: f32, substeps: u32, profile: &mut StepProfile) {
+        let t = Instant::now();
+        let h = dt / substeps as f32;
+        let inv_h = 1.0 / h;
+        let s = self.settings;
+        // Soft contacts no stiffer than an eighth of the substep rate (Box2D HEAD).
+        let hertz = s.contact_hertz.min(0.125 * inv_h);
+        let params = SolverParams {
+            contact_softness: Softness::new(hertz, s.contact_damping_ratio, h),
+            static_softness: Softness::new(2.0 * hertz, s.contact_damping_ratio, h),
+            warm_starting: s.warm_starting,
+        };
+        let contacts = &self.contacts;
+        let touching = contacts
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.manifold.count > 0)
+            .map(|(k, c)| {
+                (
+                    k as u32,
+                    ContactInput {
+                        body_a: c.body_a,
+                        body_b: c.body_b,
+                        friction: c.friction,
+                        restitution: c.restitution,
+                        manifold: &c.manifold,
+                    },
+                )
+            });
+        let touching: Vec<_> = touching.collect();
+        profile.touching = touching.len();
+        self.solver
+            .prepare(&touching, &self.solver_bodies, &self.states, &params);
+        profile.colors = self.solver.active_colors();
+        profile.overflow = self.solver.overflow_count();
+        profile.prepare_ms = ms(t);
+
+        let t = Instant::now();
+        let gravity = s.gravity;
+        let mut caps = 0u64;
+        for _ in 0..substeps {
+            self.integrate_velocities(gravity, h);
+            self.solver.warm_start(&mut self.states);
+            self.solver
+                .solve(&mut self.states, inv_h, true, s.max_push_speed);
+            caps += self.integrate_positions(h, s.max_linear_speed);
+            for _ in 0..s.relax_iterations {
+                self.solver
+                    .solve(&mut self.states, inv_h, false, s.max_push_speed);
+            }
+        }
+        self.speed_caps += caps;
+        profile.solve_ms = ms(t);
+
+        let t = Instant::now();
+        if self.solver.any_restitution {
+            self.solver
+                .restitution(&mut self.states, s.restitution_threshold);
+        }
+        for con in &self.solver.constraints {
+            let m = &mut self.contacts[con.contact as usize].manifold;
+            for (mp, cp) in m.points[..con.count].iter_mut().zip(&con.points) {
+                mp.normal_impulse = cp.normal_impulse;
+                mp.tangent_impulse = cp.tangent_impulse;
+                mp.total_normal_impulse = cp.total_normal_impulse;
+                mp.normal_velocity = cp.relative_velocity;
+            }
+        }
+        profile.restitution_ms = ms(t);
+    }
+
+    fn integrate_velocities(&mut self, gravity: Vec2, h: f32) {
+        let sims = &self.sims;
+        self.states
+            .par_iter_mut()
+            .with_min_len(1024)
+            .enumerate()
+            .for_each(|(i, s)| {
+                let sim = &sims[i];
+                if sim.kind == BodyKind::Dynamic {
+                    integrate_velocity(s, gravity, h, sim.linear_damping, sim.angular_damping);
+                }
+            });
+    }
+
+    /// Returns how many bodies hit a speed cap.
+    fn integrate_positions(&mut self, h: f32, max_speed: f32) -> u64 {
+        let sims = &self.sims;
+        self.states
+            .par_iter_mut()
+            .with_min_len(1024)
+            .enumerate()
+            .map(|(i, s)| {
+                let sim = &sims[i];
+                match sim.kind {
+                    BodyKind::Static => 0,
+                    BodyKind::Kinematic => {
+                        integrate_position(s, h, f32::INFINITY, true);
+                        0
+                    }
+                    BodyKind::Dynamic => {
+                        let rotates = sim.inv_inertia > 0.0;
+                        u64::from(integrate_position(s, h, max_speed, rotates))
+                    }
+                }
+            })
+            .sum()
+    }
+
+    /// Applies each body's substep deltas to its transform, resets them, and grows the fat
+    /// box of any body that left it (those become the next step's moved proxies).
+    fn finalize(&mut self, dt: f32) {
+        let shapes = &self.shapes;
+        self.sims
+            .par_iter_mut()
+            .zip(self.states.par_iter_mut())
+            .zip(self.fat_aabbs.par_iter_mut())
+            .zip(self.moved_flags.par_iter_mut())
+            .enumerate()
+            .with_min_len(256)
+            .for_each(|(i, (((sim, st), fat), moved))| {
+                if sim.kind == BodyKind::Static {
+                    return;
+                }
+                sim.xf.p += st.dp;
+                sim.xf.q = st.dq.mul(sim.xf.q).normalize();
+                st.dp = Vec2::ZERO;
+                st.dq = Rot::IDENTITY;
+                let tight = swept_aabb(&shapes[i], sim, st, dt);
+                if !fat.contains(&tight) {
+                    *fat = tight.grown(sim.margin);
+                    *moved = true;
+                }
+            });
+        for (i, &m) in self.moved_flags.iter().enumerate() {
+            if m {
+                self.moved.push(i as u32);
+                self.tree_dirty = true;
+            }
+        }
+    }
+}
+
+/// The shape's box, stretched along the motion expected in the next step and grown by the
+/// speculative distance: the broad phase then pairs what the speculative margin needs.
+fn swept_aabb(shape: &Shape, sim: &BodySim, st: &BodyState, dt: f32) -> Aabb {
+    let tight = shape.aabb(sim.xf);
+    let d = st.v * dt;
+    let swept = Aabb {
+        min: tight.min + d.min(Vec2::ZERO),
+        max: tight.max + d.max(Vec2::ZERO),
+    };
+    swept.grown(SPECULATIVE_DISTANCE + st.w.abs() * dt * sim.extent)
+}
+
+fn ms(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}

@@ -1,0 +1,767 @@
+//! Built-in scenes, built in code: the benchmark scenes and the hard cases.
+//!
+//! Where a scene comes from Box2D v3 (`shared/benchmarks.c`, `samples/sample_stacking.cpp`,
+//! `samples/sample_shapes.cpp`, `samples/sample_robustness.cpp`) or Solver2D, it uses the same
+//! sizes, counts, spacing, friction, density, gravity and step settings, so that figures
+//! compare. Box2D runs at 60 Hz with 4 substeps in both its benchmark and its samples.
+//!
+//! tumble has one shape per body, so where Box2D puts several shapes on one static body (a
+//! ground made of segments, a container of four boxes) each shape becomes its own static body,
+//! and a segment becomes a thin box whose face lies on the segment (see [`segment`]).
+
+use std::f32::consts::PI;
+
+use tumble_physics::{BodyDef, BodyKind, SceneDef, ShapeDef};
+
+/// Menu order: a friendly default first, then the hard cases, then the big benchmarks.
+const NAMES: &[&str] = &[
+    "falling_circles",
+    "pyramid",
+    "vertical_stack",
+    "card_house",
+    "arch",
+    "friction_ramp",
+    "mass_ratio",
+    "overlap_recovery",
+    "confined",
+    "far_from_origin",
+    "large_pyramid",
+    "many_pyramids",
+    "smash",
+    "tumbler",
+];
+
+/// All built-in scene names, in menu order.
+pub fn names() -> &'static [&'static str] {
+    NAMES
+}
+
+/// Builds the named built-in scene, or `None` if there is no such scene.
+pub fn build(name: &str) -> Option<SceneDef> {
+    let scene = match name {
+        "falling_circles" => falling_circles(),
+        "pyramid" => pyramid(),
+        "vertical_stack" => vertical_stack(),
+        "card_house" => card_house(),
+        "arch" => arch(),
+        "friction_ramp" => friction_ramp(),
+        "mass_ratio" => mass_ratio(),
+        "overlap_recovery" => overlap_recovery(),
+        "confined" => confined(),
+        "far_from_origin" => far_from_origin(),
+        "large_pyramid" => large_pyramid(),
+        "many_pyramids" => many_pyramids(),
+        "smash" => smash(),
+        "tumbler" => tumbler(),
+        _ => return None,
+    };
+    Some(scene)
+}
+
+/// A one- or two-sentence menu description of the named scene.
+pub fn describe(name: &str) -> Option<&'static str> {
+    Some(match name {
+        "falling_circles" => {
+            "A 15-row box pyramid with 180 circles of mixed sizes raining onto it (300 bodies). \
+             A light, lively scene: mixed circle-box contacts, bouncing and rolling."
+        }
+        "pyramid" => {
+            "A 20-row pyramid of 210 unit boxes on a static ground (Solver2D's Pyramid). \
+             Tests that a deep stack settles and stays standing without creeping."
+        }
+        "vertical_stack" => {
+            "A single column of 15 unit boxes, friction 0.3, next to a wall (Box2D's Vertical Stack). \
+             Tests stacking stability: the column must not sway, jitter or topple."
+        }
+        "card_house" => {
+            "A five-storey house of 40 leaning cards, 0.4 m tall and 2 mm thick, friction 0.7 (Box2D's Card House). \
+             Tests friction and thin shapes: the house must stand."
+        }
+        "arch" => {
+            "A free-standing arch of 17 convex blocks carrying 4 boxes, friction 0.6 (Box2D's Arch). \
+             Tests friction under load and polygon contacts: the arch must hold."
+        }
+        "friction_ramp" => {
+            "Five boxes with friction 0.75, 0.5, 0.35, 0.1 and 0 slide down a zig-zag of ramps (Box2D's Friction sample). \
+             Tests Coulomb friction: the grippy boxes stop, the slippery ones slide on."
+        }
+        "mass_ratio" => {
+            "Three 10-row pyramids of light boxes, each capped by a box 100, 200 and 300 times denser (Box2D's HighMassRatio1). \
+             Tests the solver under high mass ratios: the pyramids must not collapse."
+        }
+        "overlap_recovery" => {
+            "Ten boxes spawned in a pyramid overlapping each other by a quarter of their size (Box2D's Overlap Recovery). \
+             Tests that deep overlap is pushed apart gently, without an explosion."
+        }
+        "confined" => {
+            "625 circles packed, overlapping, into a closed box with no gravity (Box2D's Confined). \
+             Tests a jammed, pressurised crowd: it must relax and stay calm inside the walls."
+        }
+        "far_from_origin" => {
+            "A 10-box stack standing at (10000, 10000), where f32 has a millimetre of precision. \
+             Tests that precision loss far from the origin does not make the stack jitter or drift."
+        }
+        "large_pyramid" => {
+            "Benchmark: a 100-row pyramid of 5050 boxes (Box2D's large_pyramid). \
+             Tests raw solver throughput on one huge island of contacts."
+        }
+        "many_pyramids" => {
+            "Benchmark: 400 small 10-row pyramids on 20 shelves, 22000 boxes (Box2D's many_pyramids). \
+             Tests throughput and parallel scaling over many independent islands."
+        }
+        "smash" => {
+            "Benchmark: a heavy 8 m block at 40 m/s smashes into a 120 x 80 wall of 9600 small boxes, no gravity (Box2D's smash). \
+             Tests broad phase churn and contact creation under a violent impact."
+        }
+        "tumbler" => {
+            "Benchmark: 2025 small boxes in a 20 m box (Box2D's tumbler). Unlike Box2D, whose container is \
+             jointed and turns at 25 deg/s, this container is static (one shape per body, no joints), so the boxes fall and settle."
+        }
+        _ => return None,
+    })
+}
+
+// ---------------------------------------------------------------------------------------------
+// Helpers
+
+/// A box shape of the given half extents.
+fn rect(hx: f32, hy: f32) -> ShapeDef {
+    ShapeDef::Box {
+        half_extents: [hx, hy],
+    }
+}
+
+/// A circle shape.
+fn circle(radius: f32) -> ShapeDef {
+    ShapeDef::Circle { radius }
+}
+
+/// A static box centred at (x, y).
+fn static_box(hx: f32, hy: f32, x: f32, y: f32) -> BodyDef {
+    BodyDef::new(rect(hx, hy)).kind(BodyKind::Static).at(x, y)
+}
+
+/// Half thickness of the thin box that stands in for a Box2D segment. Thick enough not to
+/// tunnel at the speeds these scenes reach, thin enough to leave the shelves of
+/// many_pyramids 0.5 m clear of the pyramids below.
+const SEGMENT_HALF_THICKNESS: f32 = 0.25;
+
+/// A static thin box standing in for Box2D's segment from `a` to `b`: its face lies on the
+/// segment and the solid is on the segment's right (clockwise) side, so bodies placed on the
+/// left side touch the face exactly where they would touch the segment.
+fn segment(a: [f32; 2], b: [f32; 2]) -> BodyDef {
+    let d = [b[0] - a[0], b[1] - a[1]];
+    let length = (d[0] * d[0] + d[1] * d[1]).sqrt();
+    let half_length = 0.5 * length;
+    let mid = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
+    // The right-hand normal of a -> b.
+    let right = [d[1] / length, -d[0] / length];
+    let t = SEGMENT_HALF_THICKNESS;
+    let centre = [mid[0] + right[0] * t, mid[1] + right[1] * t];
+    // Axis-aligned segments become axis-aligned boxes, so that no rounding of an angle creeps in.
+    let body = if d[1] == 0.0 {
+        BodyDef::new(rect(half_length, t))
+    } else if d[0] == 0.0 {
+        BodyDef::new(rect(t, half_length))
+    } else {
+        BodyDef::new(rect(half_length, t)).angle(d[1].atan2(d[0]))
+    };
+    body.kind(BodyKind::Static).at(centre[0], centre[1])
+}
+
+/// A dynamic convex polygon body from vertices given in world coordinates (as Box2D's samples
+/// give them): the body sits at the polygon's centroid and its vertices are made relative to
+/// it, in counter-clockwise order.
+fn world_polygon(world: &[[f64; 2]]) -> BodyDef {
+    let n = world.len();
+    let mut area2 = 0.0;
+    let mut cx = 0.0;
+    let mut cy = 0.0;
+    for i in 0..n {
+        let p = world[i];
+        let q = world[(i + 1) % n];
+        let cross = p[0] * q[1] - q[0] * p[1];
+        area2 += cross;
+        cx += (p[0] + q[0]) * cross;
+        cy += (p[1] + q[1]) * cross;
+    }
+    let (cx, cy) = (cx / (3.0 * area2), cy / (3.0 * area2));
+    let mut vertices: Vec<[f32; 2]> = world
+        .iter()
+        .map(|p| [(p[0] - cx) as f32, (p[1] - cy) as f32])
+        .collect();
+    if area2 < 0.0 {
+        vertices.reverse();
+    }
+    BodyDef::new(ShapeDef::Polygon { vertices }).at(cx as f32, cy as f32)
+}
+
+/// The pyramid of Box2D's `CreateLargePyramid` and Solver2D's `Pyramid`: `base_count` boxes of
+/// half size `h` on the bottom row, rows touching, the base centred on x = 0 and resting on y = 0.
+fn push_pyramid(scene: &mut SceneDef, base_count: usize, h: f32) {
+    for i in 0..base_count {
+        let y = (2.0 * i as f32 + 1.0) * h;
+        for j in i..base_count {
+            let x = (i as f32 + 1.0) * h + 2.0 * (j - i) as f32 * h - h * base_count as f32;
+            scene.push(BodyDef::new(rect(h, h)).at(x, y));
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Showcase
+
+/// Our own default scene: a 15-row pyramid of unit boxes with 180 circles (radius 0.25 to 0.5,
+/// restitution 0.3) falling on it from 18 m up, in a staggered grid.
+fn falling_circles() -> SceneDef {
+    let mut scene = SceneDef::new("falling_circles");
+    scene.steps = 600;
+    scene.push(static_box(40.0, 1.0, 0.0, -1.0));
+    push_pyramid(&mut scene, 15, 0.5);
+    let (columns, rows) = (12, 15);
+    let spacing = 1.2;
+    for row in 0..rows {
+        // Stagger odd rows so the circles do not land in neat columns.
+        let stagger = if row % 2 == 0 { 0.0 } else { 0.5 * spacing };
+        for column in 0..columns {
+            let size_class = (column * 7 + row * 3) % 5;
+            let radius = 0.25 + 0.0625 * size_class as f32;
+            let x =
+                (column as f32 - 0.5 * (columns - 1) as f32) * spacing + stagger - 0.25 * spacing;
+            let y = 18.0 + row as f32 * spacing;
+            scene.push(BodyDef::new(circle(radius)).at(x, y).restitution(0.3));
+        }
+    }
+    scene
+}
+
+// ---------------------------------------------------------------------------------------------
+// Hard cases
+
+/// Solver2D samples/collection/sample_contact.cpp `Pyramid` (debug size): 20 rows, half size
+/// 0.5, density 1, friction 0.6; ground a 100 x 1 half-size static box at (0, -1).
+fn pyramid() -> SceneDef {
+    let mut scene = SceneDef::new("pyramid");
+    scene.steps = 600;
+    scene.push(static_box(100.0, 1.0, 0.0, -1.0));
+    push_pyramid(&mut scene, 20, 0.5);
+    scene
+}
+
+/// Box2D samples/sample_stacking.cpp `VerticalStack`: boxes of outer half size 0.5 (Box2D's
+/// 0.45 box rounded by 0.05; we have no rounding) at x = 8 +/- 0.01 alternately, y = 0.5 + i,
+/// density 1, friction 0.3; ground segment from x = -30 to 30 and a wall segment at x = 10
+/// up to y = 20 (friction 0.6). Box2D's sample opens with 12 rows; Solver2D's has 15, as here.
+fn vertical_stack() -> SceneDef {
+    let mut scene = SceneDef::new("vertical_stack");
+    scene.steps = 600;
+    scene.push(segment([-30.0, 0.0], [30.0, 0.0]));
+    // Bottom to top on the wall's left: the solid lies at x > 10.
+    scene.push(segment([10.0, 0.0], [10.0, 20.0]));
+    let rows = 15;
+    let offset = 0.01;
+    for i in 0..rows {
+        let shift = if i % 2 == 0 { -offset } else { offset };
+        scene.push(
+            BodyDef::new(rect(0.5, 0.5))
+                .at(8.0 + shift, 0.5 + i as f32)
+                .friction(0.3),
+        );
+    }
+    scene
+}
+
+/// Box2D samples/sample_stacking.cpp `CardHouse` (from PEEL): cards of half size 0.001 x 0.2,
+/// friction 0.7 everywhere, leaning at +/-25 degrees with flat cards across; 5 storeys;
+/// ground a 40 x 2 half-size box at (0, -2).
+fn card_house() -> SceneDef {
+    let mut scene = SceneDef::new("card_house");
+    scene.steps = 600;
+    let friction = 0.7;
+    scene.push(static_box(40.0, 2.0, 0.0, -2.0).friction(friction));
+
+    let card_height = 0.2;
+    let card_thickness = 0.001;
+    let lean_right = 25.0 * PI / 180.0;
+    let lean_left = -25.0 * PI / 180.0;
+    let flat = 0.5 * PI;
+    let card = |x: f32, y: f32, angle: f32| {
+        BodyDef::new(rect(card_thickness, card_height))
+            .at(x, y)
+            .angle(angle)
+            .friction(friction)
+    };
+
+    let mut count = 5;
+    let mut z0 = 0.0;
+    let mut y = card_height - 0.02;
+    while count > 0 {
+        let mut z = z0;
+        for i in 0..count {
+            if i != count - 1 {
+                scene.push(card(z + 0.25, y + card_height - 0.015, flat));
+            }
+            scene.push(card(z, y, lean_left));
+            z += 0.175;
+            scene.push(card(z, y, lean_right));
+            z += 0.175;
+        }
+        y += card_height * 2.0 - 0.03;
+        z0 += 0.175;
+        count -= 1;
+    }
+    scene
+}
+
+/// Box2D samples/sample_stacking.cpp `Arch`: the inner and outer curves below, scaled by 0.25,
+/// give 8 quadrilateral blocks per side and a keystone; 4 boxes of half size 2 x 0.5 are
+/// stacked on the keystone; friction 0.6; ground a segment from x = -100 to 100.
+fn arch() -> SceneDef {
+    // Inner (PS1) and outer (PS2) curves of the right half, in Box2D's unscaled units.
+    const PS1: [[f64; 2]; 9] = [
+        [16.0, 0.0],
+        [14.93803712795643, 5.133601056842984],
+        [13.79871746027416, 10.24928069555078],
+        [12.56252963284711, 15.34107019122473],
+        [11.20040987372525, 20.39856541571217],
+        [9.66521217819836, 25.40369899225096],
+        [7.87179930638133, 30.3179337000085],
+        [5.635199558196225, 35.03820717801641],
+        [2.405937953536585, 39.09554102558315],
+    ];
+    const PS2: [[f64; 2]; 9] = [
+        [24.0, 0.0],
+        [22.33619528222415, 6.02299846205841],
+        [20.54936888969905, 12.00964361211476],
+        [18.60854610798073, 17.9470321677465],
+        [16.46769273811807, 23.81367936585418],
+        [14.05325025774858, 29.57079353071012],
+        [11.23551045834022, 35.13775818285372],
+        [7.752568160730571, 40.30450679009583],
+        [3.016931552701656, 44.28891593799322],
+    ];
+    // Box2D scales the curves in f32; do the same so the blocks match it bit for bit.
+    let scale = |p: [f64; 2]| [(0.25 * p[0] as f32) as f64, (0.25 * p[1] as f32) as f64];
+    let ps1 = PS1.map(scale);
+    let ps2 = PS2.map(scale);
+    let mirror = |p: [f64; 2]| [-p[0], p[1]];
+    let friction = 0.6;
+
+    let mut scene = SceneDef::new("arch");
+    scene.steps = 600;
+    scene.push(segment([-100.0, 0.0], [100.0, 0.0]).friction(friction));
+    for i in 0..8 {
+        let block = [ps1[i], ps2[i], ps2[i + 1], ps1[i + 1]];
+        scene.push(world_polygon(&block).friction(friction));
+    }
+    for i in 0..8 {
+        let block = [
+            mirror(ps2[i]),
+            mirror(ps1[i]),
+            mirror(ps1[i + 1]),
+            mirror(ps2[i + 1]),
+        ];
+        scene.push(world_polygon(&block).friction(friction));
+    }
+    let keystone = [ps1[8], ps2[8], mirror(ps2[8]), mirror(ps1[8])];
+    scene.push(world_polygon(&keystone).friction(friction));
+    let top = ps2[8][1] as f32;
+    for i in 0..4 {
+        scene.push(
+            BodyDef::new(rect(2.0, 0.5))
+                .at(0.0, 0.5 + top + i as f32)
+                .friction(friction),
+        );
+    }
+    scene
+}
+
+/// Box2D samples/sample_shapes.cpp `Friction`: three 13 x 0.25 half-size ramps tilted by
+/// -/+0.25 rad with two 0.25 x 1 stops, all static with friction 0.2, over a ground segment;
+/// five unit boxes of density 25 dropped from y = 28 with friction 0.75, 0.5, 0.35, 0.1, 0.
+fn friction_ramp() -> SceneDef {
+    let mut scene = SceneDef::new("friction_ramp");
+    scene.steps = 600;
+    let ground_friction = 0.2;
+    scene.push(segment([-40.0, 0.0], [40.0, 0.0]).friction(ground_friction));
+    let ramp = |x: f32, y: f32, angle: f32| {
+        static_box(13.0, 0.25, x, y)
+            .angle(angle)
+            .friction(ground_friction)
+    };
+    scene.push(ramp(-4.0, 22.0, -0.25));
+    scene.push(static_box(0.25, 1.0, 10.5, 19.0).friction(ground_friction));
+    scene.push(ramp(4.0, 14.0, 0.25));
+    scene.push(static_box(0.25, 1.0, -10.5, 11.0).friction(ground_friction));
+    scene.push(ramp(-4.0, 6.0, -0.25));
+
+    let frictions = [0.75, 0.5, 0.35, 0.1, 0.0];
+    for (i, friction) in frictions.into_iter().enumerate() {
+        scene.push(
+            BodyDef::new(rect(0.5, 0.5))
+                .at(-15.0 + 4.0 * i as f32, 28.0)
+                .density(25.0)
+                .friction(friction),
+        );
+    }
+    scene
+}
+
+/// Box2D samples/sample_robustness.cpp `HighMassRatio1` (also Solver2D's): three pyramids
+/// with a 10-box base of half size 1, density 1, each capped by a box of density 100, 200 and
+/// 300 dropped from 2 m above its place; ground a 50 x 1 half-size box at (0, -1).
+fn mass_ratio() -> SceneDef {
+    let mut scene = SceneDef::new("mass_ratio");
+    scene.steps = 600;
+    let extent = 1.0;
+    scene.push(static_box(50.0, 1.0, 0.0, -1.0));
+    for j in 0..3 {
+        let base_count = 10;
+        let offset = -20.0 * extent + 2.0 * (base_count as f32 + 1.0) * extent * j as f32;
+        let mut y = extent;
+        for count in (1..=base_count).rev() {
+            for i in 0..count {
+                let coeff = i as f32 - 0.5 * count as f32;
+                let (yy, density) = if count == 1 {
+                    (y + 2.0, (j as f32 + 1.0) * 100.0)
+                } else {
+                    (y, 1.0)
+                };
+                scene.push(
+                    BodyDef::new(rect(extent, extent))
+                        .at(2.0 * coeff * extent + offset, yy)
+                        .density(density),
+                );
+            }
+            y += 2.0 * extent;
+        }
+    }
+    scene
+}
+
+/// Box2D samples/sample_robustness.cpp `OverlapRecovery`: a 4-box-base pyramid of half size
+/// 0.5 whose spacing is shrunk by 25% so neighbours overlap by 0.25 m; ground segment from
+/// x = -40 to 40. Box2D also sets the contact tuning (30 Hz, damping ratio 10, push-out
+/// 3 m/s); a scene cannot, so this runs with the engine's own.
+fn overlap_recovery() -> SceneDef {
+    let mut scene = SceneDef::new("overlap_recovery");
+    scene.steps = 600;
+    scene.push(segment([-40.0, 0.0], [40.0, 0.0]));
+    let base_count = 4;
+    let extent = 0.5;
+    let fraction = 1.0 - 0.25;
+    let mut y = extent;
+    for i in 0..base_count {
+        let mut x = fraction * extent * (i as f32 - base_count as f32);
+        for _ in i..base_count {
+            scene.push(BodyDef::new(rect(extent, extent)).at(x, y));
+            x += 2.0 * fraction * extent;
+        }
+        y += 2.0 * fraction * extent;
+    }
+    scene
+}
+
+/// Box2D samples/sample_stacking.cpp `Confined`: 25 x 25 circles of radius 0.5 on a 0.72 m
+/// grid from (-8.75, 1.5), so neighbours overlap, inside four walls (Box2D's capsules of radius
+/// 0.5 along x = +/-10.5 and y = 0, 20.5, here boxes of the same thickness). Box2D turns the
+/// circles' gravity off; here the scene's gravity is zero.
+fn confined() -> SceneDef {
+    let mut scene = SceneDef::new("confined");
+    scene.steps = 600;
+    scene.gravity = [0.0, 0.0];
+    let r = 0.5;
+    scene.push(static_box(10.5 + r, r, 0.0, 0.0));
+    scene.push(static_box(r, 10.25 + r, -10.5, 10.25));
+    scene.push(static_box(r, 10.25 + r, 10.5, 10.25));
+    scene.push(static_box(10.5 + r, r, 0.0, 20.5));
+    let grid_count = 25;
+    let spacing = 18.0 / grid_count as f32;
+    for column in 0..grid_count {
+        for row in 0..grid_count {
+            let x = -8.75 + column as f32 * spacing;
+            let y = 1.5 + row as f32 * spacing;
+            scene.push(BodyDef::new(circle(0.5)).at(x, y));
+        }
+    }
+    scene
+}
+
+/// Our own, after Solver2D's samples/collection/sample_far.cpp `FarStack`: a column of 10 unit
+/// boxes on a 10 x 1 half-size static ground, all offset to (10000, 10000), where the spacing
+/// of f32 values is about 1 mm.
+fn far_from_origin() -> SceneDef {
+    let mut scene = SceneDef::new("far_from_origin");
+    scene.steps = 600;
+    let (ox, oy) = (10_000.0, 10_000.0);
+    scene.push(static_box(10.0, 1.0, ox, oy - 1.0));
+    for i in 0..10 {
+        scene.push(BodyDef::new(rect(0.5, 0.5)).at(ox, oy + 0.5 + i as f32));
+    }
+    scene
+}
+
+// ---------------------------------------------------------------------------------------------
+// Benchmarks (Box2D shared/benchmarks.c, step counts from benchmark/main.c)
+
+/// Box2D `CreateLargePyramid`: 100 rows, half size 0.5, density 1, friction 0.6; ground a
+/// 100 x 1 half-size static box at (0, -1); 500 steps. Box2D disables sleep; tumble has none.
+fn large_pyramid() -> SceneDef {
+    let mut scene = SceneDef::new("large_pyramid");
+    scene.steps = 500;
+    scene.push(static_box(100.0, 1.0, 0.0, -1.0));
+    push_pyramid(&mut scene, 100, 0.5);
+    scene
+}
+
+/// Box2D `CreateManyPyramids`: a 20 x 20 grid of 10-row pyramids of half size 0.5; each row
+/// of pyramids stands on a 220 m ground segment, the segments 11 m apart; 200 steps.
+fn many_pyramids() -> SceneDef {
+    let mut scene = SceneDef::new("many_pyramids");
+    scene.steps = 200;
+    let base_count = 10;
+    let extent = 0.5;
+    let (rows, columns) = (20, 20);
+    let ground_dy = 2.0 * extent * (base_count as f32 + 1.0);
+    let ground_width = 2.0 * extent * columns as f32 * (base_count as f32 + 1.0);
+    for i in 0..rows {
+        let y = i as f32 * ground_dy;
+        scene.push(segment([-0.5 * ground_width, y], [0.5 * ground_width, y]));
+    }
+    let base_width = 2.0 * extent * base_count as f32;
+    for row in 0..rows {
+        let base_y = row as f32 * ground_dy;
+        for column in 0..columns {
+            let centre_x =
+                -0.5 * ground_width + column as f32 * (base_width + 2.0 * extent) + 2.0 * extent;
+            for i in 0..base_count {
+                let y = (2.0 * i as f32 + 1.0) * extent + base_y;
+                for j in i..base_count {
+                    let x =
+                        (i as f32 + 1.0) * extent + 2.0 * (j - i) as f32 * extent + centre_x - 0.5;
+                    scene.push(BodyDef::new(rect(extent, extent)).at(x, y));
+                }
+            }
+        }
+    }
+    scene
+}
+
+/// Box2D `CreateSmash`: no gravity; a 4 x 4 half-size box of density 8 at (-20, 0) moving at
+/// 40 m/s into a 120 x 80 grid of touching 0.2 half-size boxes starting at x = 30, centred on
+/// y = 0; 300 steps. (Box2D creates the grid asleep; tumble has no sleep.)
+fn smash() -> SceneDef {
+    let mut scene = SceneDef::new("smash");
+    scene.steps = 300;
+    scene.gravity = [0.0, 0.0];
+    scene.push(
+        BodyDef::new(rect(4.0, 4.0))
+            .at(-20.0, 0.0)
+            .velocity(40.0, 0.0)
+            .density(8.0),
+    );
+    let d = 0.4;
+    let (columns, rows) = (120, 80);
+    for i in 0..columns {
+        for j in 0..rows {
+            let x = i as f32 * d + 30.0;
+            let y = (j as f32 - rows as f32 / 2.0) * d;
+            scene.push(BodyDef::new(rect(0.5 * d, 0.5 * d)).at(x, y));
+        }
+    }
+    scene
+}
+
+/// Box2D `CreateTumbler`: a 45 x 45 grid of 0.125 half-size boxes, 0.4 m apart, inside a
+/// 20 m container of 0.5 m thick walls centred at (0, 10); 750 steps.
+///
+/// Decision: the container is STATIC. Box2D's is one dynamic body of four shapes (density 50)
+/// driven by a revolving joint's motor at 25 deg/s. tumble has one shape per body and no
+/// joints, and a kinematic body moves in a straight line at constant velocity, so four
+/// kinematic walls given the container's spin (and the tangential velocity of their centres)
+/// would be right only at the first instant and would drift apart within a second or two,
+/// spilling the boxes. A static container keeps the body count, shapes and contact density
+/// but not the churn: the boxes drop 0.375 m and settle instead of tumbling.
+fn tumbler() -> SceneDef {
+    let mut scene = SceneDef::new("tumbler");
+    scene.steps = 750;
+    let (cx, cy) = (0.0, 10.0);
+    let wall = |hx: f32, hy: f32, x: f32, y: f32| static_box(hx, hy, cx + x, cy + y).density(50.0);
+    scene.push(wall(0.5, 10.0, 10.0, 0.0));
+    scene.push(wall(0.5, 10.0, -10.0, 0.0));
+    scene.push(wall(10.0, 0.5, 0.0, 10.0));
+    scene.push(wall(10.0, 0.5, 0.0, -10.0));
+    let grid_count = 45;
+    let mut y = -0.2 * grid_count as f32 + 10.0;
+    for _ in 0..grid_count {
+        let mut x = -0.2 * grid_count as f32;
+        for _ in 0..grid_count {
+            scene.push(BodyDef::new(rect(0.125, 0.125)).at(x, y));
+            x += 0.4;
+        }
+        y += 0.4;
+    }
+    scene
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use tumble_physics::Limits;
+
+    fn count(scene: &SceneDef, kind: BodyKind) -> usize {
+        scene.bodies.iter().filter(|b| b.kind == kind).count()
+    }
+
+    #[test]
+    fn every_name_builds_describes_and_validates() {
+        assert_eq!(names().len(), 14);
+        for &name in names() {
+            let scene = build(name).unwrap_or_else(|| panic!("{name} does not build"));
+            assert_eq!(scene.name, name);
+            assert!(describe(name).is_some(), "{name} has no description");
+            assert!(!scene.bodies.is_empty(), "{name} is empty");
+            assert!(
+                count(&scene, BodyKind::Dynamic) > 0,
+                "{name} has nothing moving"
+            );
+            assert!(scene.steps > 0 && scene.substeps == 4);
+            assert!((scene.dt - 1.0 / 60.0).abs() < 1e-9);
+            if let Err(e) = scene.validate(&Limits::default()) {
+                panic!("{name} does not validate: {e}");
+            }
+        }
+        assert!(build("no_such_scene").is_none());
+        assert!(describe("no_such_scene").is_none());
+    }
+
+    #[test]
+    fn names_are_unique() {
+        let mut sorted = names().to_vec();
+        sorted.sort_unstable();
+        sorted.dedup();
+        assert_eq!(sorted.len(), names().len());
+    }
+
+    #[test]
+    fn body_counts_match_box2d() {
+        let expect = [
+            ("large_pyramid", 5050, 1),
+            ("pyramid", 210, 1),
+            ("many_pyramids", 22_000, 20),
+            ("smash", 9601, 0),
+            ("tumbler", 2025, 4),
+            ("vertical_stack", 15, 2),
+            ("card_house", 40, 1),
+            ("arch", 21, 1),
+            ("friction_ramp", 5, 6),
+            ("mass_ratio", 165, 1),
+            ("overlap_recovery", 10, 1),
+            ("confined", 625, 4),
+            ("far_from_origin", 10, 1),
+            ("falling_circles", 300, 1),
+        ];
+        for (name, dynamic, fixed) in expect {
+            let scene = build(name).unwrap();
+            assert_eq!(count(&scene, BodyKind::Dynamic), dynamic, "{name} dynamic");
+            assert_eq!(count(&scene, BodyKind::Static), fixed, "{name} static");
+            assert_eq!(scene.bodies.len(), dynamic + fixed, "{name} total");
+        }
+    }
+
+    #[test]
+    fn polygons_are_convex_ccw_and_small() {
+        for &name in names() {
+            for (index, body) in build(name).unwrap().bodies.iter().enumerate() {
+                let ShapeDef::Polygon { vertices } = &body.shape else {
+                    continue;
+                };
+                let n = vertices.len();
+                assert!((3..=8).contains(&n), "{name} body {index}: {n} vertices");
+                let mut area2 = 0.0;
+                for i in 0..n {
+                    let (a, b, c) = (vertices[i], vertices[(i + 1) % n], vertices[(i + 2) % n]);
+                    area2 += a[0] * b[1] - b[0] * a[1];
+                    let turn = (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0]);
+                    assert!(turn > 0.0, "{name} body {index}: turn at vertex {i}");
+                }
+                assert!(area2 > 0.0, "{name} body {index}: signed area {area2}");
+                // Centred on the centroid: the body's position is its centre of mass.
+                let c = centroid(vertices);
+                assert!(
+                    c[0].abs() < 1e-4 && c[1].abs() < 1e-4,
+                    "{name} body {index}: {c:?}"
+                );
+            }
+        }
+    }
+
+    fn centroid(v: &[[f32; 2]]) -> [f32; 2] {
+        let (mut a, mut cx, mut cy) = (0.0, 0.0, 0.0);
+        for i in 0..v.len() {
+            let (p, q) = (v[i], v[(i + 1) % v.len()]);
+            let cross = p[0] * q[1] - q[0] * p[1];
+            a += cross;
+            cx += (p[0] + q[0]) * cross;
+            cy += (p[1] + q[1]) * cross;
+        }
+        [cx / (3.0 * a), cy / (3.0 * a)]
+    }
+
+    #[test]
+    fn arch_keystone_meets_its_neighbours() {
+        // The keystone's lower corners are the top corners of the highest blocks of each side.
+        let scene = build("arch").unwrap();
+        let world = |body: &BodyDef| -> Vec<[f32; 2]> {
+            let ShapeDef::Polygon { vertices } = &body.shape else {
+                panic!("arch block is not a polygon")
+            };
+            vertices
+                .iter()
+                .map(|v| [v[0] + body.position[0], v[1] + body.position[1]])
+                .collect()
+        };
+        let keystone = world(&scene.bodies[17]);
+        for side in [8, 16] {
+            let block = world(&scene.bodies[side]);
+            let shared = block
+                .iter()
+                .filter(|c| {
+                    keystone
+                        .iter()
+                        .any(|k| (k[0] - c[0]).abs() < 1e-4 && (k[1] - c[1]).abs() < 1e-4)
+                })
+                .count();
+            assert_eq!(
+                shared, 2,
+                "block {side} {block:?} and keystone {keystone:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn segments_put_their_face_on_the_line() {
+        let floor = segment([-30.0, 0.0], [30.0, 0.0]);
+        assert_eq!(floor.position, [0.0, -SEGMENT_HALF_THICKNESS]);
+        let wall = segment([10.0, 0.0], [10.0, 20.0]);
+        assert_eq!(wall.position, [10.0 + SEGMENT_HALF_THICKNESS, 10.0]);
+        assert_eq!(
+            wall.shape,
+            ShapeDef::Box {
+                half_extents: [SEGMENT_HALF_THICKNESS, 10.0]
+            }
+        );
+    }
+
+    #[test]
+    fn pyramid_rows_touch_and_sit_on_the_ground() {
+        let scene = build("pyramid").unwrap();
+        let lowest = scene.bodies[1..]
+            .iter()
+            .map(|b| b.position[1])
+            .fold(f32::INFINITY, f32::min);
+        assert_eq!(lowest, 0.5);
+        let top = scene.bodies.last().unwrap();
+        assert_eq!(top.position, [0.0, 19.5]);
+    }
+}

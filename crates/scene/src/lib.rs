@@ -1,0 +1,881 @@
+//! Loading tumble scenes: a `.ron` or `.json` file, or a built-in scene by name.
+//!
+//! [`load`] is what the runner, the viewer and the tests call; [`parse`] is the part that
+//! turns bytes into a validated [`SceneDef`] and is what fuzzers call. Neither panics on any
+//! input: every refusal is a [`LoadError`] whose `Display` is a complete message for a person,
+//! naming the file, the place (`line:column`, or `body N` and the field) and what is allowed.
+
+pub mod builtin;
+
+use std::fmt;
+use std::fs::File;
+use std::io::Read;
+use std::path::Path;
+
+use thiserror::Error;
+use tumble_physics::{Limits, SceneDef, SceneError};
+
+/// Default for [`LoadLimits::max_file_bytes`]: 64 MiB.
+pub const DEFAULT_MAX_FILE_BYTES: u64 = 64 * 1024 * 1024;
+
+/// The name of the command-line flag that raises [`LoadLimits::max_file_bytes`]; error
+/// messages point at it.
+pub const MAX_FILE_BYTES_FLAG: &str = "--max-file-bytes";
+
+/// Limits on untrusted scene input.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LoadLimits {
+    /// Largest scene file accepted, in bytes (default 64 MiB).
+    pub max_file_bytes: u64,
+    /// Limits checked by [`SceneDef::validate`] (bodies, substeps).
+    pub scene: Limits,
+}
+
+impl Default for LoadLimits {
+    fn default() -> Self {
+        Self {
+            max_file_bytes: DEFAULT_MAX_FILE_BYTES,
+            scene: Limits::default(),
+        }
+    }
+}
+
+/// The syntax of a scene file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// Rusty Object Notation, `.ron`.
+    Ron,
+    /// JSON, `.json`.
+    Json,
+}
+
+impl Format {
+    /// The format for a file extension (without the dot, case-insensitive), if it is one.
+    pub fn from_extension(ext: &str) -> Option<Format> {
+        if ext.eq_ignore_ascii_case("ron") {
+            Some(Format::Ron)
+        } else if ext.eq_ignore_ascii_case("json") {
+            Some(Format::Json)
+        } else {
+            None
+        }
+    }
+
+    /// The format of a path, from its extension.
+    pub fn from_path(path: &Path) -> Option<Format> {
+        path.extension()
+            .and_then(|e| e.to_str())
+            .and_then(Format::from_extension)
+    }
+}
+
+impl fmt::Display for Format {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Format::Ron => "RON",
+            Format::Json => "JSON",
+        })
+    }
+}
+
+/// Why a scene could not be loaded. `Display` is the whole message for a person.
+#[derive(Debug, Error)]
+pub enum LoadError {
+    /// The path's extension is neither `.ron` nor `.json`.
+    #[error(
+        "{path}: unknown scene file extension `.{extension}`; allowed: `.ron` or `.json` files, or a built-in scene name ({builtins})"
+    )]
+    UnknownExtension {
+        /// The path as given.
+        path: String,
+        /// Its extension.
+        extension: String,
+        /// The built-in names, comma-separated.
+        builtins: String,
+    },
+    /// Neither a built-in name nor a path with a scene extension.
+    #[error(
+        "`{name}` is not a built-in scene, nor a `.ron` or `.json` file; built-in scenes: {builtins}"
+    )]
+    UnknownScene {
+        /// The source as given.
+        name: String,
+        /// The built-in names, comma-separated.
+        builtins: String,
+    },
+    /// The file could not be opened or read.
+    #[error("{path}: cannot read the scene file: {source}")]
+    Io {
+        /// The path as given.
+        path: String,
+        /// What the system said.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The path names a directory or some other thing that is not a plain file.
+    #[error("{path}: not a regular file; allowed: a `.ron` or `.json` scene file")]
+    NotAFile {
+        /// The path as given.
+        path: String,
+    },
+    /// The file is larger than [`LoadLimits::max_file_bytes`].
+    #[error(
+        "{path}: the file is {size} bytes, more than the limit of {max} bytes; raise the limit (flag {flag}, or `LoadLimits::max_file_bytes`) if you mean it"
+    )]
+    TooLarge {
+        /// The path as given.
+        path: String,
+        /// The file's size in bytes (at least; reading stops past the limit).
+        size: u64,
+        /// The limit in force.
+        max: u64,
+        /// The flag that raises it.
+        flag: &'static str,
+    },
+    /// The bytes are not UTF-8 text.
+    #[error(
+        "{origin}:{line}:{column}: the file is not UTF-8 text (invalid byte sequence here); allowed: a UTF-8 encoded {format} scene"
+    )]
+    NotUtf8 {
+        /// The file (or other origin) of the bytes.
+        origin: String,
+        /// Line of the first bad byte, from 1.
+        line: usize,
+        /// Column of the first bad byte, from 1.
+        column: usize,
+        /// The format being read.
+        format: Format,
+    },
+    /// A syntax error, an unknown field or a value of the wrong type.
+    #[error("{origin}:{line}:{column}: {message}\n  hint: {hint}")]
+    Syntax {
+        /// The file (or other origin) of the bytes.
+        origin: String,
+        /// Line of the error, from 1.
+        line: usize,
+        /// Column of the error, from 1.
+        column: usize,
+        /// What went wrong, as the parser says it.
+        message: String,
+        /// What to do about it: for unknown fields, the allowed fields.
+        hint: String,
+    },
+    /// The scene parsed but a value is out of range (validation failed).
+    #[error("{origin}: {source}")]
+    Invalid {
+        /// The file (or built-in name) of the scene.
+        origin: String,
+        /// Which body, which field, which value, and what is allowed.
+        #[source]
+        source: SceneError,
+    },
+}
+
+impl LoadError {
+    /// The `line:column` of a syntax error, if this is one.
+    pub fn position(&self) -> Option<(usize, usize)> {
+        match self {
+            LoadError::Syntax { line, column, .. } | LoadError::NotUtf8 { line, column, .. } => {
+                Some((*line, *column))
+            }
+            _ => None,
+        }
+    }
+}
+
+fn builtin_list() -> String {
+    let names = builtin::names();
+    if names.is_empty() {
+        "none".to_string()
+    } else {
+        names.join(", ")
+    }
+}
+
+/// Loads a scene from `source`: a path to a `.ron` or `.json` file, or a built-in scene's name.
+///
+/// The scene is validated against `limits.scene`; a file's scene with an empty `name` is named
+/// after the file's stem.
+pub fn load(source: &str, limits: &LoadLimits) -> Result<SceneDef, LoadError> {
+    let path = Path::new(source);
+    let extension = path.extension().and_then(|e| e.to_str());
+    if let Some(format) = extension.and_then(Format::from_extension) {
+        let bytes = read_file(source, limits.max_file_bytes)?;
+        return parse(&bytes, format, source, limits);
+    }
+    if let Some(scene) = builtin::build(source) {
+        let mut scene = scene;
+        if scene.name.is_empty() {
+            scene.name = source.to_string();
+        }
+        scene
+            .validate(&limits.scene)
+            .map_err(|e| LoadError::Invalid {
+                origin: format!("built-in scene `{source}`"),
+                source: e,
+            })?;
+        return Ok(scene);
+    }
+    match path.extension() {
+        Some(ext) => Err(LoadError::UnknownExtension {
+            path: source.to_string(),
+            extension: ext.to_string_lossy().into_owned(),
+            builtins: builtin_list(),
+        }),
+        None => Err(LoadError::UnknownScene {
+            name: source.to_string(),
+            builtins: builtin_list(),
+        }),
+    }
+}
+
+/// Reads at most `max + 1` bytes so that a huge (or endless) file is refused without reading it.
+fn read_file(path: &str, max: u64) -> Result<Vec<u8>, LoadError> {
+    let io_err = |source| LoadError::Io {
+        path: path.to_string(),
+        source,
+    };
+    let file = File::open(path).map_err(io_err)?;
+    let meta = file.metadata().map_err(io_err)?;
+    if !meta.is_file() {
+        return Err(LoadError::NotAFile {
+            path: path.to_string(),
+        });
+    }
+    let too_large = |size| LoadError::TooLarge {
+        path: path.to_string(),
+        size,
+        max,
+        flag: MAX_FILE_BYTES_FLAG,
+    };
+    if meta.len() > max {
+        return Err(too_large(meta.len()));
+    }
+    let mut bytes = Vec::with_capacity(usize::try_from(meta.len()).unwrap_or(0));
+    file.take(max.saturating_add(1))
+        .read_to_end(&mut bytes)
+        .map_err(io_err)?;
+    if bytes.len() as u64 > max {
+        return Err(too_large(bytes.len() as u64));
+    }
+    Ok(bytes)
+}
+
+/// Parses and validates a scene from `bytes` in `format`. `origin` names the bytes in messages
+/// (a path, normally) and, when the scene's `name` is empty, gives it its stem as the name.
+pub fn parse(
+    bytes: &[u8],
+    format: Format,
+    origin: &str,
+    limits: &LoadLimits,
+) -> Result<SceneDef, LoadError> {
+    if bytes.len() as u64 > limits.max_file_bytes {
+        return Err(LoadError::TooLarge {
+            path: origin.to_string(),
+            size: bytes.len() as u64,
+            max: limits.max_file_bytes,
+            flag: MAX_FILE_BYTES_FLAG,
+        });
+    }
+    let text = match std::str::from_utf8(bytes) {
+        Ok(text) => text,
+        Err(e) => {
+            // The prefix up to the bad byte is valid UTF-8 by definition.
+            let valid = std::str::from_utf8(&bytes[..e.valid_up_to()]).unwrap_or_default();
+            let (line, column) = end_position(valid);
+            return Err(LoadError::NotUtf8 {
+                origin: origin.to_string(),
+                line,
+                column,
+                format,
+            });
+        }
+    };
+    // Editors on some systems start UTF-8 files with a byte-order mark; neither parser wants it.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let mut scene = match format {
+        Format::Ron => parse_ron(text, origin)?,
+        Format::Json => parse_json(text, origin)?,
+    };
+    if scene.name.is_empty() {
+        scene.name = Path::new(origin)
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+    }
+    scene
+        .validate(&limits.scene)
+        .map_err(|source| LoadError::Invalid {
+            origin: origin.to_string(),
+            source,
+        })?;
+    Ok(scene)
+}
+
+/// The 1-based line and column just past the end of `text` (columns count characters).
+fn end_position(text: &str) -> (usize, usize) {
+    let line = 1 + text.bytes().filter(|&b| b == b'\n').count();
+    let last_line = text.rsplit('\n').next().unwrap_or("");
+    (line, 1 + last_line.chars().count())
+}
+
+const SCHEMA_HINT: &str = "see \"Scene files\" in README.md for the fields, their types and defaults";
+
+fn parse_ron(text: &str, origin: &str) -> Result<SceneDef, LoadError> {
+    // The default options keep ron's recursion limit, so deep nesting is an error, not a crash.
+    let options = ron::Options::default();
+    options.from_str::<SceneDef>(text).map_err(|e| {
+        let hint = ron_hint(&e.code);
+        LoadError::Syntax {
+            origin: origin.to_string(),
+            line: e.span.start.line.max(1),
+            column: e.span.start.col.max(1),
+            message: e.code.to_string(),
+            hint,
+        }
+    })
+}
+
+fn quoted_list(names: &[&str]) -> String {
+    if names.is_empty() {
+        return "none".to_string();
+    }
+    names
+        .iter()
+        .map(|n| format!("`{n}`"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+fn ron_hint(code: &ron::Error) -> String {
+    use ron::Error as E;
+    match code {
+        E::NoSuchStructField {
+            expected, outer, ..
+        } => {
+            let place = outer
+                .as_deref()
+                .map(|o| format!(" in `{o}`"))
+                .unwrap_or_default();
+            format!(
+                "allowed fields{place}: {}; field names are case-sensitive",
+                quoted_list(expected)
+            )
+        }
+        E::NoSuchEnumVariant { expected, .. } => {
+            format!(
+                "allowed here: {}; names are case-sensitive",
+                quoted_list(expected)
+            )
+        }
+        E::MissingStructField { field, outer } => {
+            let place = outer
+                .as_deref()
+                .map(|o| format!(" in `{o}`"))
+                .unwrap_or_default();
+            format!("`{field}` is required{place}; {SCHEMA_HINT}")
+        }
+        E::DuplicateStructField { field, .. } => {
+            format!("give `{field}` only once")
+        }
+        E::ExpectedStructLike | E::ExpectedArray => format!(
+            "in RON, pairs such as `position`, `gravity` and `half_extents` are written `(x, y)`, lists such as `bodies` and `vertices` `[a, b, ...]`, a scene or body `( field: value, ... )`, a shape `Circle(radius: 0.5)`; {SCHEMA_HINT}"
+        ),
+        E::ExceededRecursionLimit => {
+            "the input nests too deeply; a scene is at most a few levels deep".to_string()
+        }
+        E::ExpectedFloat | E::ExpectedInteger | E::IntegerOutOfBounds => format!(
+            "numbers are plain decimals such as `1`, `-0.5` or `2e3`; counts (`substeps`, `steps`) are whole numbers >= 0; {SCHEMA_HINT}"
+        ),
+        E::Eof
+        | E::ExpectedComma
+        | E::ExpectedStructLikeEnd
+        | E::ExpectedArrayEnd
+        | E::TrailingCharacters
+        | E::UnexpectedChar(_)
+        | E::ExpectedStringEnd => {
+            format!(
+                "check for a missing comma, bracket or parenthesis just before this place; {SCHEMA_HINT}"
+            )
+        }
+        _ => SCHEMA_HINT.to_string(),
+    }
+}
+
+fn parse_json(text: &str, origin: &str) -> Result<SceneDef, LoadError> {
+    // serde_json keeps its default recursion limit (128), so deep nesting is an error.
+    serde_json::from_str::<SceneDef>(text).map_err(|e| {
+        let full = e.to_string();
+        let (line, column) = if e.line() == 0 {
+            end_position(text)
+        } else {
+            (e.line(), e.column().max(1))
+        };
+        let suffix = format!(" at line {} column {}", e.line(), e.column());
+        let message = full.strip_suffix(&suffix).unwrap_or(&full).to_string();
+        let hint = json_hint(&message, e.classify());
+        LoadError::Syntax {
+            origin: origin.to_string(),
+            line,
+            column,
+            message,
+            hint,
+        }
+    })
+}
+
+fn json_hint(message: &str, category: serde_json::error::Category) -> String {
+    use serde_json::error::Category;
+    if message.starts_with("unknown field") {
+        let allowed = message
+            .split_once(", expected ")
+            .map(|(_, rest)| rest.trim_start_matches("one of ").to_string())
+            .unwrap_or_else(|| "none".to_string());
+        return format!("allowed fields here: {allowed}; field names are case-sensitive");
+    }
+    if message.starts_with("unknown variant") {
+        let allowed = message
+            .split_once(", expected ")
+            .map(|(_, rest)| rest.trim_start_matches("one of ").to_string())
+            .unwrap_or_else(|| "none".to_string());
+        return format!("allowed here: {allowed}; names are case-sensitive");
+    }
+    if message.starts_with("missing field") {
+        return format!("that field is required here; {SCHEMA_HINT}");
+    }
+    if message.contains("recursion limit") {
+        return "the input nests too deeply; a scene is at most a few levels deep".to_string();
+    }
+    match category {
+        Category::Data => format!(
+            "pairs such as `position` are `[x, y]`, numbers are plain decimals, counts (`substeps`, `steps`) whole numbers >= 0, a shape is `{{\"Circle\": {{\"radius\": 0.5}}}}`; {SCHEMA_HINT}"
+        ),
+        Category::Eof | Category::Syntax => format!(
+            "check for a missing comma, bracket, brace or quote just before this place; JSON allows no trailing commas or comments; {SCHEMA_HINT}"
+        ),
+        Category::Io => SCHEMA_HINT.to_string(),
+    }
+}
+
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const GOOD_RON: &str = r#"// A small scene.
+(
+    name: "",
+    gravity: (0, -10),
+    dt: 0.0166666,
+    substeps: 4,
+    bodies: [
+        (kind: Static, position: (0.0, -1.0), shape: Box(half_extents: (10.0, 1.0))),
+        (position: (0.0, 2.0), shape: Circle(radius: 0.5), friction: 0.3),
+        (position: (1.0, 4.0), angle: 0.5,
+         shape: Polygon(vertices: [(-0.5, -0.5), (0.5, -0.5), (0.0, 0.5)])),
+    ],
+)
+"#;
+
+    const GOOD_JSON: &str = r#"{
+  "gravity": [0, -10],
+  "dt": 0.0166666,
+  "substeps": 4,
+  "bodies": [
+    {"kind": "Static", "position": [0.0, -1.0], "shape": {"Box": {"half_extents": [10.0, 1.0]}}},
+    {"position": [0.0, 2.0], "shape": {"Circle": {"radius": 0.5}}, "friction": 0.3},
+    {"position": [1.0, 4.0], "angle": 0.5,
+     "shape": {"Polygon": {"vertices": [[-0.5, -0.5], [0.5, -0.5], [0.0, 0.5]]}}}
+  ]
+}
+"#;
+
+    fn ron(text: &str, origin: &str) -> Result<SceneDef, LoadError> {
+        parse(text.as_bytes(), Format::Ron, origin, &LoadLimits::default())
+    }
+
+    fn json(text: &str, origin: &str) -> Result<SceneDef, LoadError> {
+        parse(text.as_bytes(), Format::Json, origin, &LoadLimits::default())
+    }
+
+    /// The error's message, after checking that it contains every one of `words`.
+    #[track_caller]
+    fn expect_err(result: Result<SceneDef, LoadError>, words: &[&str]) -> String {
+        let message = match result {
+            Ok(scene) => panic!("expected an error, got a scene: {scene:?}"),
+            Err(e) => e.to_string(),
+        };
+        for word in words {
+            assert!(
+                message.contains(word),
+                "message lacks {word:?}:\n{message}"
+            );
+        }
+        message
+    }
+
+    /// A RON scene with one dynamic body whose body fields are `fields`.
+    fn one_body_ron(fields: &str) -> String {
+        format!("(bodies: [\n    (kind: Static, shape: Circle(radius: 1.0)),\n    ({fields}),\n])\n")
+    }
+
+    fn unique_temp(name: &str) -> std::path::PathBuf {
+        use std::sync::atomic::{AtomicUsize, Ordering};
+        static COUNTER: AtomicUsize = AtomicUsize::new(0);
+        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+        std::env::temp_dir().join(format!("tumble-scene-test-{}-{n}-{name}", std::process::id()))
+    }
+
+    #[test]
+    fn good_ron_and_json_agree_and_fill_defaults() {
+        let a = ron(GOOD_RON, "scenes/small.ron").unwrap();
+        let b = json(GOOD_JSON, "scenes/small.json").unwrap();
+        assert_eq!(a.name, "small", "an empty name becomes the file's stem");
+        assert_eq!(a, b);
+        assert_eq!(a.bodies.len(), 3);
+        assert_eq!(a.steps, 600);
+        assert_eq!(a.bodies[1].density, 1.0);
+        assert_eq!(a.bodies[2].friction, 0.6);
+        assert_eq!(a.bodies[0].kind, tumble_physics::BodyKind::Static);
+    }
+
+    #[test]
+    fn a_given_name_is_kept_and_a_bom_is_skipped() {
+        let text = format!("\u{feff}(name: \"pile\", bodies: [])");
+        let scene = ron(&text, "x/y.ron").unwrap();
+        assert_eq!(scene.name, "pile");
+    }
+
+    #[test]
+    fn syntax_error_names_file_line_and_column() {
+        // Missing comma after the first body.
+        let text = "(bodies: [\n    (shape: Circle(radius: 1.0))\n    (shape: Circle(radius: 1.0)),\n])";
+        let m = expect_err(ron(text, "broken.ron"), &["broken.ron:3:", "comma"]);
+        assert!(m.contains("hint:"), "{m}");
+        let text = "{\"bodies\": [\n  {\"shape\": {\"Circle\": {\"radius\": 1.0}}},\n]}";
+        expect_err(json(text, "broken.json"), &["broken.json:3:", "trailing comma"]);
+        // Cut short.
+        expect_err(ron("(bodies: [", "short.ron"), &["short.ron:1:"]);
+        expect_err(json("{\"bodies\": [", "short.json"), &["short.json:1:"]);
+        expect_err(json("", "empty.json"), &["empty.json:1:1"]);
+    }
+
+    #[test]
+    fn unknown_field_lists_the_allowed_fields() {
+        let text = one_body_ron("shape: Circle(radius: 1.0), frictoin: 0.3");
+        let m = expect_err(
+            ron(&text, "typo.ron"),
+            &["typo.ron:3:", "frictoin", "friction", "restitution", "fixed_rotation"],
+        );
+        assert!(m.contains("hint: allowed fields"), "{m}");
+        let text = one_body_ron("shape: Circle(radiuss: 1.0)");
+        expect_err(ron(&text, "typo2.ron"), &["typo2.ron:3:", "radiuss", "`radius`"]);
+        let text = "{\"bodies\": [], \"gravty\": [0, -10]}";
+        expect_err(
+            json(text, "typo.json"),
+            &["typo.json:1:", "gravty", "`gravity`", "`substeps`", "`bodies`"],
+        );
+        // An unknown shape.
+        let text = one_body_ron("shape: Triangle(radius: 1.0)");
+        expect_err(ron(&text, "shape.ron"), &["shape.ron:3:", "Circle", "Box", "Polygon"]);
+        let text = "{\"bodies\": [{\"shape\": {\"Square\": {}}}]}";
+        expect_err(json(text, "shape.json"), &["shape.json:1:", "Circle", "Box", "Polygon"]);
+        // A missing required field.
+        expect_err(ron("(gravity: (0, 1))", "nobodies.ron"), &["nobodies.ron:", "bodies"]);
+        let text = "{\"bodies\": [{\"position\": [1, 2]}]}";
+        expect_err(json(text, "noshape.json"), &["noshape.json:1:", "shape"]);
+    }
+
+    #[test]
+    fn wrong_type_names_the_place() {
+        let m = expect_err(ron("(substeps: \"four\", bodies: [])", "type.ron"), &["type.ron:1:"]);
+        assert!(m.contains("hint:"), "{m}");
+        expect_err(
+            json("{\"substeps\": \"four\", \"bodies\": []}", "type.json"),
+            &["type.json:1:", "u32", "string"],
+        );
+        expect_err(json("{\"substeps\": 2.5, \"bodies\": []}", "frac.json"), &["frac.json:1:"]);
+        expect_err(
+            json("{\"substeps\": -1, \"bodies\": []}", "neg.json"),
+            &["neg.json:1:", "-1"],
+        );
+        // A pair written as a list in RON: the hint says how pairs are written.
+        let text = one_body_ron("position: [1.0, 2.0], shape: Circle(radius: 1.0)");
+        expect_err(ron(&text, "pair.ron"), &["pair.ron:3:", "(x, y)"]);
+        // A pair of the wrong length.
+        let text = "{\"gravity\": [0, -10, 3], \"bodies\": []}";
+        expect_err(json(text, "len.json"), &["len.json:1:"]);
+        let text = "{\"bodies\": [{\"fixed_rotation\": 1, \"shape\": {\"Circle\": {\"radius\": 1}}}]}";
+        expect_err(json(text, "bool.json"), &["bool.json:1:", "bool"]);
+    }
+
+    #[test]
+    fn negative_or_zero_size() {
+        let text = one_body_ron("shape: Circle(radius: -1.0)");
+        expect_err(
+            ron(&text, "neg.ron"),
+            &["neg.ron", "body 1", "shape.Circle.radius", "-1", "> 0"],
+        );
+        let text = one_body_ron("shape: Circle(radius: 0)");
+        expect_err(ron(&text, "zero.ron"), &["zero.ron", "body 1", "radius", "> 0"]);
+        let text = one_body_ron("shape: Box(half_extents: (1.0, 0.0))");
+        expect_err(
+            ron(&text, "box.ron"),
+            &["box.ron", "body 1", "shape.Box.half_extents", "[1.0, 0.0]", "> 0"],
+        );
+        let text = "{\"bodies\": [{\"shape\": {\"Box\": {\"half_extents\": [-1, 1]}}}]}";
+        expect_err(json(text, "box.json"), &["box.json", "body 0", "half_extents", "> 0"]);
+    }
+
+    #[test]
+    fn non_finite_numbers() {
+        let text = one_body_ron("angle: NaN, shape: Circle(radius: 1.0)");
+        expect_err(ron(&text, "nan.ron"), &["nan.ron", "body 1", "angle", "NaN", "finite"]);
+        let text = one_body_ron("position: (inf, 0.0), shape: Circle(radius: 1.0)");
+        expect_err(ron(&text, "inf.ron"), &["inf.ron", "body 1", "position", "inf", "finite"]);
+        // Too large for f32: becomes infinite, then refused by validation.
+        let text = one_body_ron("linear_velocity: (1e39, 0.0), shape: Circle(radius: 1.0)");
+        expect_err(ron(&text, "big.ron"), &["big.ron", "body 1", "linear_velocity", "finite"]);
+        let text = one_body_ron("angular_velocity: 1e999999, shape: Circle(radius: 1.0)");
+        expect_err(ron(&text, "huge.ron"), &["huge.ron"]);
+        let text = "{\"bodies\": [{\"density\": 1e39, \"shape\": {\"Circle\": {\"radius\": 1}}}]}";
+        expect_err(json(text, "big.json"), &["big.json", "body 0", "density", "finite"]);
+        // Beyond f64: serde_json refuses it at the number.
+        let text = "{\"bodies\": [{\"density\": 1e999, \"shape\": {\"Circle\": {\"radius\": 1}}}]}";
+        expect_err(json(text, "huge.json"), &["huge.json:1:", "out of range"]);
+        expect_err(
+            ron("(gravity: (0.0, -inf), bodies: [])", "g.ron"),
+            &["g.ron", "gravity", "finite"],
+        );
+        expect_err(
+            ron("(bodies: [], substeps: 99999999999999999999)", "int.ron"),
+            &["int.ron:1:"],
+        );
+    }
+
+    #[test]
+    fn non_convex_polygon() {
+        // An arrow head: the vertex at (0, 0.2) turns clockwise.
+        let text = one_body_ron(
+            "shape: Polygon(vertices: [(-1.0, -1.0), (0.0, 0.2), (1.0, -1.0), (0.0, 1.0)])",
+        );
+        expect_err(
+            ron(&text, "arrow.ron"),
+            &["arrow.ron", "body 1", "shape.Polygon.vertices", "convex", "counter-clockwise"],
+        );
+        // Clockwise winding.
+        let text = one_body_ron("shape: Polygon(vertices: [(0.0, 0.0), (0.0, 1.0), (1.0, 0.0)])");
+        expect_err(ron(&text, "cw.ron"), &["cw.ron", "body 1", "vertices", "counter-clockwise"]);
+    }
+
+    #[test]
+    fn degenerate_polygon() {
+        // Three collinear points: no area.
+        let text = one_body_ron("shape: Polygon(vertices: [(0.0, 0.0), (1.0, 0.0), (2.0, 0.0)])");
+        expect_err(
+            ron(&text, "flat.ron"),
+            &["flat.ron", "body 1", "shape.Polygon.vertices", "non-zero area"],
+        );
+        // Too few and too many vertices.
+        let text = one_body_ron("shape: Polygon(vertices: [(0.0, 0.0), (1.0, 0.0)])");
+        expect_err(ron(&text, "two.ron"), &["two.ron", "body 1", "3 to 8"]);
+        let nine: Vec<String> = (0..9)
+            .map(|i| {
+                let a = i as f32 * std::f32::consts::TAU / 9.0;
+                format!("[{}, {}]", a.cos(), a.sin())
+            })
+            .collect();
+        let text = format!(
+            "{{\"bodies\": [{{\"shape\": {{\"Polygon\": {{\"vertices\": [{}]}}}}}}]}}",
+            nine.join(", ")
+        );
+        expect_err(json(&text, "nine.json"), &["nine.json", "body 0", "3 to 8"]);
+        // Two coincident vertices.
+        let text = one_body_ron(
+            "shape: Polygon(vertices: [(0.0, 0.0), (1.0, 0.0), (1.0, 0.0), (0.0, 1.0)])",
+        );
+        expect_err(ron(&text, "dup.ron"), &["dup.ron", "body 1", "vertices"]);
+    }
+
+    #[test]
+    fn zero_density_dynamic_body() {
+        let text = one_body_ron("density: 0.0, shape: Circle(radius: 1.0)");
+        expect_err(
+            ron(&text, "light.ron"),
+            &["light.ron", "body 1", "density", "0", "> 0 for a dynamic body"],
+        );
+        // Static and kinematic bodies may have zero density.
+        let text = "(bodies: [(kind: Kinematic, density: 0, shape: Circle(radius: 1.0))])";
+        ron(text, "kin.ron").unwrap();
+    }
+
+    #[test]
+    fn dt_must_be_positive() {
+        expect_err(ron("(dt: 0.0, bodies: [])", "dt.ron"), &["dt.ron", "`dt`", "0", "> 0"]);
+        expect_err(
+            json("{\"dt\": -0.01, \"bodies\": []}", "dt.json"),
+            &["dt.json", "`dt`", "-0.01", "> 0"],
+        );
+    }
+
+    #[test]
+    fn substeps_must_be_at_least_one() {
+        expect_err(
+            ron("(substeps: 0, bodies: [])", "sub.ron"),
+            &["sub.ron", "`substeps`", "0", "from 1 to 256"],
+        );
+    }
+
+    #[test]
+    fn too_many_bodies() {
+        let limits = LoadLimits {
+            scene: Limits {
+                max_bodies: 2,
+                ..Limits::default()
+            },
+            ..LoadLimits::default()
+        };
+        let text = "(bodies: [(shape: Circle(radius: 1)), (shape: Circle(radius: 1)), (shape: Circle(radius: 1))])";
+        expect_err(
+            parse(text.as_bytes(), Format::Ron, "many.ron", &limits),
+            &["many.ron", "3 bodies", "limit of 2", "--max-bodies"],
+        );
+    }
+
+    #[test]
+    fn too_large_file() {
+        let path = unique_temp("large.ron");
+        std::fs::write(&path, GOOD_RON).unwrap();
+        let limits = LoadLimits {
+            max_file_bytes: 100,
+            ..LoadLimits::default()
+        };
+        let source = path.to_str().unwrap();
+        let m = load(source, &limits).unwrap_err().to_string();
+        std::fs::remove_file(&path).ok();
+        for word in [source, "more than the limit of 100 bytes", "--max-file-bytes"] {
+            assert!(m.contains(word), "message lacks {word:?}:\n{m}");
+        }
+        // The default limit is 64 MiB and the same file passes it.
+        assert_eq!(LoadLimits::default().max_file_bytes, 64 * 1024 * 1024);
+        expect_err(
+            parse(GOOD_RON.as_bytes(), Format::Ron, "big.ron", &limits),
+            &["big.ron", "limit of 100 bytes", "--max-file-bytes"],
+        );
+    }
+
+    #[test]
+    fn files_on_disk() {
+        let path = unique_temp("disk.ron");
+        std::fs::write(&path, GOOD_RON).unwrap();
+        let scene = load(path.to_str().unwrap(), &LoadLimits::default()).unwrap();
+        std::fs::remove_file(&path).ok();
+        assert!(scene.name.ends_with("disk"), "{}", scene.name);
+        assert_eq!(scene.bodies.len(), 3);
+
+        let path = unique_temp("disk.JSON");
+        std::fs::write(&path, GOOD_JSON).unwrap();
+        let scene = load(path.to_str().unwrap(), &LoadLimits::default()).unwrap();
+        std::fs::remove_file(&path).ok();
+        assert_eq!(scene.bodies.len(), 3);
+    }
+
+    #[test]
+    fn missing_file_unknown_extension_and_unknown_name() {
+        let missing = unique_temp("missing.ron");
+        let source = missing.to_str().unwrap();
+        let m = load(source, &LoadLimits::default()).unwrap_err().to_string();
+        assert!(m.contains(source) && m.contains("cannot read"), "{m}");
+
+        let m = load("scene.yaml", &LoadLimits::default()).unwrap_err().to_string();
+        assert!(m.contains("scene.yaml") && m.contains("`.ron` or `.json`"), "{m}");
+
+        let m = load("no_such_builtin_scene", &LoadLimits::default()).unwrap_err().to_string();
+        assert!(m.contains("no_such_builtin_scene") && m.contains("built-in scenes:"), "{m}");
+        for name in builtin::names() {
+            assert!(m.contains(name), "message lacks built-in {name:?}:\n{m}");
+        }
+
+        let dir = unique_temp("dir.ron");
+        std::fs::create_dir_all(&dir).unwrap();
+        let m = load(dir.to_str().unwrap(), &LoadLimits::default()).unwrap_err().to_string();
+        std::fs::remove_dir(&dir).ok();
+        assert!(m.contains("dir.ron") && m.contains("not a regular file"), "{m}");
+    }
+
+    #[test]
+    fn every_builtin_loads_and_validates() {
+        for name in builtin::names() {
+            let scene = load(name, &LoadLimits::default())
+                .unwrap_or_else(|e| panic!("built-in {name} does not load: {e}"));
+            assert!(!scene.name.is_empty());
+            assert!(builtin::describe(name).is_some(), "{name} has no description");
+        }
+    }
+
+    #[test]
+    fn not_utf8() {
+        let mut bytes = b"(name: \"a\",\n  bodies: [], // caf".to_vec();
+        bytes.extend_from_slice(&[0xff, 0xfe, b'\n', b')']);
+        let e = parse(&bytes, Format::Ron, "bin.ron", &LoadLimits::default()).unwrap_err();
+        let m = e.to_string();
+        assert!(m.contains("bin.ron:2:") && m.contains("UTF-8"), "{m}");
+        assert_eq!(e.position(), Some((2, 22)));
+        let e = parse(&bytes, Format::Json, "bin.json", &LoadLimits::default()).unwrap_err();
+        assert!(e.to_string().contains("bin.json:2:22"), "{e}");
+    }
+
+    #[test]
+    fn deep_nesting_is_an_error_not_a_crash() {
+        let depth = 100_000;
+        let text = format!("(bodies: {}{})", "[".repeat(depth), "]".repeat(depth));
+        expect_err(ron(&text, "deep.ron"), &["deep.ron:1:"]);
+        let text = format!("{{\"bodies\": {}{}}}", "[".repeat(depth), "]".repeat(depth));
+        expect_err(json(&text, "deep.json"), &["deep.json:1:"]);
+        let text = format!("{}{}", "(".repeat(depth), ")".repeat(depth));
+        expect_err(ron(&text, "parens.ron"), &["parens.ron:1:"]);
+        let text = format!("{{\"name\": {}{}}}", "{\"a\":".repeat(depth), "}".repeat(depth));
+        expect_err(json(&text, "obj.json"), &["obj.json:1:"]);
+    }
+
+    /// Mutated scenes, byte by byte: any result is fine, a panic fails the test.
+    #[test]
+    fn mutations_never_panic() {
+        let mut state: u64 = 0x9e37_79b9_7f4a_7c15;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let inserts: &[&[u8]] = &[
+            b"NaN", b"inf", b"-", b"1e39", b"1e999", b"0", b"(", b")", b"[", b"]", b",", b"\"",
+            b"\xff", b"\xc3", b"//", b"/*", b"#![enable(implicit_some)]", b"99999999999999999999",
+        ];
+        for (text, format) in [(GOOD_RON, Format::Ron), (GOOD_JSON, Format::Json)] {
+            for _ in 0..3000 {
+                let mut bytes = text.as_bytes().to_vec();
+                for _ in 0..1 + next() % 4 {
+                    let at = (next() as usize) % (bytes.len() + 1);
+                    match next() % 3 {
+                        0 => {
+                            if at < bytes.len() {
+                                bytes.remove(at);
+                            }
+                        }
+                        1 => {
+                            let ins = inserts[(next() as usize) % inserts.len()];
+                            bytes.splice(at..at, ins.iter().copied());
+                        }
+                        _ => {
+                            if at < bytes.len() {
+                                bytes[at] = next() as u8;
+                            }
+                        }
+                    }
+                }
+                let _ = parse(&bytes, format, "fuzz", &LoadLimits::default());
+            }
+        }
+    }
+}

@@ -1,0 +1,29 @@
+//! Helpers shared by the scene-level tests in `tests/tests/`.
+
+use tumble_physics::{Limits, SceneDef, World};
+
+/// Builds a world from a scene, panicking with the scene's error (tests only).
+pub fn world(scene: &SceneDef) -> World {
+    match World::from_scene(scene, &Limits::default()) {
+        Ok(w) => w,
+        Err(e) => panic!("scene {} refused: {e}", scene.name),
+    }
+}
+
+/// Steps a world `n` times at the scene's settings.
+pub fn run(world: &mut World, scene: &SceneDef, n: u32) {
+    for _ in 0..n {
+        world.step(scene.dt, scene.substeps);
+    }
+}
+
+/// Whether every body's state is finite.
+pub fn all_finite(world: &World) -> bool {
+    (0..world.body_count()).all(|i| {
+        let b = world.body(i);
+        b.position.is_finite()
+            && b.linear_velocity.is_finite()
+            && b.angle.is_finite()
+            && b.angular_velocity.is_finite()
+    })
+}
