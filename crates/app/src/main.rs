@@ -62,7 +62,9 @@ fn run(cli: &Cli) -> Result<()> {
     let scene = tumble_scene::load(&cli.scene, &limits)?;
     let mut world = World::from_scene(&scene, &limits.scene)
         .with_context(|| format!("{}: cannot build the world", cli.scene))?;
-    let threads = cli.threads.map_or_else(default_thread_count, |t| t as usize);
+    let threads = cli
+        .threads
+        .map_or_else(default_thread_count, |t| t as usize);
     world.set_thread_count(threads.max(1));
     let steps = cli.steps.unwrap_or(scene.steps);
 
@@ -82,7 +84,13 @@ fn run(cli: &Cli) -> Result<()> {
         }
     }
     let wall = started.elapsed().as_secs_f64();
-    let mean = |total: f64| if steps == 0 { 0.0 } else { total / f64::from(steps) };
+    let mean = |total: f64| {
+        if steps == 0 {
+            0.0
+        } else {
+            total / f64::from(steps)
+        }
+    };
 
     println!("tumble (headless; the viewer comes later)");
     println!("scene      {}", scene.name);
@@ -95,8 +103,9 @@ fn run(cli: &Cli) -> Result<()> {
     );
     println!("threads    {}", world.thread_count());
     println!("step       {:.3} ms mean", mean(step_ms));
+    let width = stages.iter().map(|(name, _)| name.len()).max().unwrap_or(0);
     for (name, total) in &stages {
-        println!("  {name:<13}{:.3} ms", mean(*total));
+        println!("  {name:<width$} {:.3} ms", mean(*total));
     }
     println!("contacts   {}", world.contact_count());
     println!("state hash {:016x}", world.state_hash());

@@ -69,10 +69,16 @@ fn refused(args: &[&str], words: &[&str]) -> String {
     assert!(out.status.code().is_some(), "{args:?} died by a signal");
     assert!(out.stdout.is_empty(), "{args:?} wrote to stdout");
     for word in words {
-        assert!(stderr.contains(word), "{args:?}: stderr lacks {word:?}:\n{stderr}");
+        assert!(
+            stderr.contains(word),
+            "{args:?}: stderr lacks {word:?}:\n{stderr}"
+        );
     }
     for bad in ["panicked", "backtrace", "RUST_BACKTRACE"] {
-        assert!(!stderr.contains(bad), "{args:?}: stderr has {bad:?}:\n{stderr}");
+        assert!(
+            !stderr.contains(bad),
+            "{args:?}: stderr has {bad:?}:\n{stderr}"
+        );
     }
     stderr
 }
@@ -106,7 +112,10 @@ fn a_good_run_writes_the_contract_document() {
     assert_eq!(f32_of(&doc["dt"]), expected.dt);
     assert_eq!(doc["substeps"], expected.substeps);
     let time = doc["time"].as_f64().unwrap();
-    assert!((time - 20.0 * f64::from(expected.dt)).abs() < 1e-9, "{time}");
+    assert!(
+        (time - 20.0 * f64::from(expected.dt)).abs() < 1e-9,
+        "{time}"
+    );
     let hash = doc["state_hash"].as_str().unwrap();
     assert_eq!(hash.len(), 16, "{hash}");
     assert!(hash.bytes().all(|b| b.is_ascii_hexdigit()), "{hash}");
@@ -114,7 +123,12 @@ fn a_good_run_writes_the_contract_document() {
     let bodies = doc["bodies"].as_array().unwrap();
     assert_eq!(bodies.len(), expected.bodies.len());
     for body in bodies {
-        let keys: Vec<&str> = body.as_object().unwrap().keys().map(|k| k.as_str()).collect();
+        let keys: Vec<&str> = body
+            .as_object()
+            .unwrap()
+            .keys()
+            .map(|k| k.as_str())
+            .collect();
         for key in ["position", "angle", "linear_velocity", "angular_velocity"] {
             assert!(keys.contains(&key), "a body lacks {key}: {body}");
         }
@@ -201,18 +215,40 @@ fn a_scene_file_runs_and_out_writes_the_file() {
 )"#,
     );
     let out_file = TempFile::new("report.json", b"");
-    let out = bench(&["run", scene.path(), "--out", out_file.path(), "--threads", "1"]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = bench(&[
+        "run",
+        scene.path(),
+        "--out",
+        out_file.path(),
+        "--threads",
+        "1",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     assert!(out.stdout.is_empty(), "with --out, stdout stays empty");
     let doc: Value = serde_json::from_slice(&std::fs::read(&out_file.0).unwrap()).unwrap();
     // The name is the file's stem; steps and substeps come from the scene.
-    assert!(doc["scene"].as_str().unwrap().ends_with("drop"), "{}", doc["scene"]);
+    assert!(
+        doc["scene"].as_str().unwrap().ends_with("drop"),
+        "{}",
+        doc["scene"]
+    );
     assert_eq!(doc["steps"], 5);
     assert_eq!(doc["substeps"], 2);
     assert_eq!(doc["bodies"].as_array().unwrap().len(), 3);
 
     // --substeps overrides the scene's.
-    let doc = stdout_json(&bench(&["run", scene.path(), "--substeps", "3", "--steps", "2"]));
+    let doc = stdout_json(&bench(&[
+        "run",
+        scene.path(),
+        "--substeps",
+        "3",
+        "--steps",
+        "2",
+    ]));
     assert_eq!(doc["substeps"], 3);
     assert_eq!(doc["steps"], 2);
 }
@@ -315,7 +351,12 @@ fn non_convex_polygon() {
         "arrow.ron",
         &one_body("shape: Polygon(vertices: [(-1.0, -1.0), (0.0, 0.2), (1.0, -1.0), (0.0, 1.0)])"),
         &[],
-        &["body 0", "shape.Polygon.vertices", "convex", "counter-clockwise"],
+        &[
+            "body 0",
+            "shape.Polygon.vertices",
+            "convex",
+            "counter-clockwise",
+        ],
     );
 }
 
@@ -341,12 +382,7 @@ fn zero_density_dynamic_body() {
 
 #[test]
 fn dt_not_positive() {
-    refused_file(
-        "dt.ron",
-        "(dt: 0.0, bodies: [])",
-        &[],
-        &["`dt`", "> 0"],
-    );
+    refused_file("dt.ron", "(dt: 0.0, bodies: [])", &[], &["`dt`", "> 0"]);
     refused_file(
         "dt.json",
         "{\"dt\": -1, \"bodies\": []}",
@@ -377,7 +413,11 @@ fn too_many_bodies() {
     // Raising the limit lets it through.
     let file = TempFile::new("many_ok.ron", text.as_bytes());
     let out = bench(&["run", file.path(), "--steps", "1", "--max-bodies", "3"]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
 }
 
 #[test]
@@ -398,7 +438,8 @@ fn not_utf8() {
 
 #[test]
 fn missing_file_and_unknown_extension() {
-    let missing = std::env::temp_dir().join(format!("tumble-bench-cli-{}-nope.ron", std::process::id()));
+    let missing =
+        std::env::temp_dir().join(format!("tumble-bench-cli-{}-nope.ron", std::process::id()));
     let missing = missing.to_str().unwrap();
     refused(&["run", missing], &[missing, "cannot read"]);
     let file = TempFile::new("scene.yaml", b"bodies: []");
@@ -407,7 +448,10 @@ fn missing_file_and_unknown_extension() {
 
 #[test]
 fn unknown_scene_lists_the_built_ins() {
-    let stderr = refused(&["run", "no_such_scene"], &["no_such_scene", "built-in scenes:"]);
+    let stderr = refused(
+        &["run", "no_such_scene"],
+        &["no_such_scene", "built-in scenes:"],
+    );
     for name in tumble_scene::builtin::names() {
         assert!(stderr.contains(name), "stderr lacks {name}:\n{stderr}");
     }
@@ -421,7 +465,10 @@ fn bad_flags() {
     refused(&["run", SCENE, "--steps", "-1"], &["--steps", "-1"]);
     refused(&["run", SCENE, "--steps", "1.5"], &["--steps"]);
     refused(&["run", SCENE, "--substeps", "0"], &["--substeps", "0"]);
-    refused(&["run", SCENE, "--substeps", "100000"], &["--substeps", "1 to"]);
+    refused(
+        &["run", SCENE, "--substeps", "100000"],
+        &["--substeps", "1 to"],
+    );
     refused(&["run", SCENE, "--bogus"], &["--bogus"]);
     refused(&["run"], &["SCENE"]);
     refused(&["walk", SCENE], &["walk"]);
@@ -439,7 +486,13 @@ fn help_exits_zero() {
     let out = bench(&["run", "--help"]);
     assert!(out.status.success());
     let help = String::from_utf8_lossy(&out.stdout);
-    for flag in ["--steps", "--threads", "--substeps", "--out", "--max-bodies"] {
+    for flag in [
+        "--steps",
+        "--threads",
+        "--substeps",
+        "--out",
+        "--max-bodies",
+    ] {
         assert!(help.contains(flag), "help lacks {flag}:\n{help}");
     }
 }

@@ -48,9 +48,9 @@ impl Rot {
         Vec2::new(self.c * v.x + self.s * v.y, -self.s * v.x + self.c * v.y)
     }
 
-    /// `self * other`: first `other`, then `self`.
+    /// `self * other`: the rotation by `other`, then by `self`.
     #[inline]
-    pub fn mul(self, other: Rot) -> Rot {
+    pub fn then_from(self, other: Rot) -> Rot {
         Rot {
             c: self.c * other.c - self.s * other.s,
             s: self.s * other.c + self.c * other.s,
@@ -184,8 +184,14 @@ mod tests {
 
     #[test]
     fn transform_inverse() {
-        let a = Transform { p: Vec2::new(1.0, 2.0), q: Rot::from_angle(0.3) };
-        let b = Transform { p: Vec2::new(-3.0, 0.5), q: Rot::from_angle(-1.1) };
+        let a = Transform {
+            p: Vec2::new(1.0, 2.0),
+            q: Rot::from_angle(0.3),
+        };
+        let b = Transform {
+            p: Vec2::new(-3.0, 0.5),
+            q: Rot::from_angle(-1.1),
+        };
         let rel = a.inv_mul(b);
         let p = Vec2::new(0.25, 0.75);
         let via = a.apply(rel.apply(p));

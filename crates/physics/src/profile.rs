@@ -29,6 +29,8 @@ pub struct StepProfile {
     pub overflow: usize,
     /// Proxies whose fat box changed in the last step.
     pub moved: usize,
+    /// Contacts whose manifold was recycled rather than recomputed.
+    pub recycled: usize,
 }
 
 /// Names of the timed stages, in pipeline order.

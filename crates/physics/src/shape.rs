@@ -6,10 +6,10 @@
 
 use glam::Vec2;
 
+use crate::LINEAR_SLOP;
 use crate::error::PolygonError;
 use crate::math::{Transform, cross, dot, normalize_and_length, right_perp};
 use crate::scene::{MAX_POLYGON_VERTICES, ShapeDef};
-use crate::LINEAR_SLOP;
 
 /// An axis-aligned bounding box.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -136,7 +136,6 @@ impl Polygon {
             }
             v[i] = Vec2::new(p[0], p[1]);
         }
-        let scale = v[..n].iter().fold(0.0f32, |m, p| m.max(p.length()));
         for i in 0..n {
             let j = (i + 1) % n;
             // Box2D welds vertices closer than half a slop; we refuse them instead.
@@ -145,7 +144,8 @@ impl Polygon {
             }
         }
         let area = signed_area(&v[..n]);
-        if !(area > 0.0) {
+        // NaN-safe: a NaN area is refused too.
+        if area.is_nan() || area <= 0.0 {
             return Err(PolygonError::ZeroArea);
         }
         for i in 0..n {
@@ -162,7 +162,6 @@ impl Polygon {
                 return Err(PolygonError::Degenerate(i, (i + 1) % n));
             }
         }
-        let _ = scale;
         let centroid = polygon_centroid(&v[..n]);
         let mut p = Polygon {
             vertices: [Vec2::ZERO; MAX_POLYGON_VERTICES],
@@ -285,7 +284,7 @@ impl Shape {
             Shape::Polygon(p) => {
                 let mut m = f32::MAX;
                 for i in 0..p.count {
-                    m = m.min(-dot(p.normals[i], p.vertices[i]));
+                    m = m.min(dot(p.normals[i], p.vertices[i]));
                 }
                 m
             }
@@ -334,7 +333,10 @@ mod tests {
 
     #[test]
     fn box_mass_and_inertia_match_textbook() {
-        let s = Shape::from_def(&ShapeDef::Box { half_extents: [1.5, 0.5] }).unwrap();
+        let s = Shape::from_def(&ShapeDef::Box {
+            half_extents: [1.5, 0.5],
+        })
+        .unwrap();
         let m = s.mass(3.0);
         let (w, h) = (3.0f32, 1.0f32);
         // m = ρwh, I = m(w² + h²)/12 (the seed's formula); fan sums in f32: ~1e-6 relative.
@@ -349,7 +351,11 @@ mod tests {
         let p = Polygon::from_vertices(&[[0.0, 0.0], [3.0, 0.0], [0.0, 2.0]]).unwrap();
         let m = p.mass(1.0);
         assert!(rel(m.mass, 3.0) < 1e-6);
-        assert!(rel(m.inertia, 3.0 * (9.0 + 4.0) / 18.0) < 1e-5, "{}", m.inertia);
+        assert!(
+            rel(m.inertia, 3.0 * (9.0 + 4.0) / 18.0) < 1e-5,
+            "{}",
+            m.inertia
+        );
         // Recentred on the centroid (1, 2/3).
         assert!((p.vertices[0] - Vec2::new(-1.0, -2.0 / 3.0)).length() < 1e-6);
     }
@@ -404,13 +410,24 @@ mod tests {
     }
 
     #[test]
+    fn extents() {
+        let s = Shape::Polygon(Polygon::new_box(1.0, 0.25));
+        // Exact: the half extents and the half diagonal.
+        assert_eq!(s.min_extent(), 0.25);
+        assert!((s.extent() - (1.0f32 + 0.0625).sqrt()).abs() < 1e-6);
+        let c = Shape::Circle(Circle { radius: 0.3 });
+        assert_eq!((c.min_extent(), c.extent()), (0.3, 0.3));
+    }
+
+    #[test]
     fn normals_point_outward() {
         let p = Polygon::new_box(1.0, 2.0);
         for i in 0..4 {
             let mid = (p.vertices[i] + p.vertices[(i + 1) % 4]) * 0.5;
             assert!(dot(p.normals[i], mid) > 0.0);
         }
-        let q = Polygon::from_vertices(&[[-1.0, -2.0], [1.0, -2.0], [1.0, 2.0], [-1.0, 2.0]]).unwrap();
+        let q =
+            Polygon::from_vertices(&[[-1.0, -2.0], [1.0, -2.0], [1.0, 2.0], [-1.0, 2.0]]).unwrap();
         assert_eq!(p.normals[..4], q.normals[..4]);
     }
 }

@@ -319,21 +319,40 @@ fn end_position(text: &str) -> (usize, usize) {
     (line, 1 + last_line.chars().count())
 }
 
-const SCHEMA_HINT: &str = "see \"Scene files\" in README.md for the fields, their types and defaults";
+const SCHEMA_HINT: &str =
+    "see \"Scene files\" in README.md for the fields, their types and defaults";
 
 fn parse_ron(text: &str, origin: &str) -> Result<SceneDef, LoadError> {
     // The default options keep ron's recursion limit, so deep nesting is an error, not a crash.
     let options = ron::Options::default();
-    options.from_str::<SceneDef>(text).map_err(|e| {
-        let hint = ron_hint(&e.code);
-        LoadError::Syntax {
+    options
+        .from_str::<SceneDef>(text)
+        .map_err(|e| LoadError::Syntax {
             origin: origin.to_string(),
             line: e.span.start.line.max(1),
             column: e.span.start.col.max(1),
-            message: e.code.to_string(),
-            hint,
+            message: ron_message(&e.code),
+            hint: ron_hint(&e.code),
+        })
+}
+
+/// ron's own message, less the list of alternatives that the hint gives.
+fn ron_message(code: &ron::Error) -> String {
+    let place = |outer: &Option<String>| {
+        outer
+            .as_deref()
+            .map(|o| format!(" in `{o}`"))
+            .unwrap_or_default()
+    };
+    match code {
+        ron::Error::NoSuchStructField { found, outer, .. } => {
+            format!("unknown field `{found}`{}", place(outer))
         }
-    })
+        ron::Error::NoSuchEnumVariant { found, outer, .. } => {
+            format!("unknown variant `{found}`{}", place(outer))
+        }
+        other => other.to_string(),
+    }
 }
 
 fn quoted_list(names: &[&str]) -> String {
@@ -412,8 +431,13 @@ fn parse_json(text: &str, origin: &str) -> Result<SceneDef, LoadError> {
             (e.line(), e.column().max(1))
         };
         let suffix = format!(" at line {} column {}", e.line(), e.column());
-        let message = full.strip_suffix(&suffix).unwrap_or(&full).to_string();
-        let hint = json_hint(&message, e.classify());
+        let message = full.strip_suffix(&suffix).unwrap_or(&full);
+        let hint = json_hint(message, e.classify());
+        // The hint lists what is allowed; the message need not say it twice.
+        let message = match message.split_once(", expected ") {
+            Some((head, _)) if message.starts_with("unknown ") => head.to_string(),
+            _ => message.to_string(),
+        };
         LoadError::Syntax {
             origin: origin.to_string(),
             line,
@@ -457,7 +481,6 @@ fn json_hint(message: &str, category: serde_json::error::Category) -> String {
     }
 }
 
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -495,7 +518,12 @@ mod tests {
     }
 
     fn json(text: &str, origin: &str) -> Result<SceneDef, LoadError> {
-        parse(text.as_bytes(), Format::Json, origin, &LoadLimits::default())
+        parse(
+            text.as_bytes(),
+            Format::Json,
+            origin,
+            &LoadLimits::default(),
+        )
     }
 
     /// The error's message, after checking that it contains every one of `words`.
@@ -506,24 +534,26 @@ mod tests {
             Err(e) => e.to_string(),
         };
         for word in words {
-            assert!(
-                message.contains(word),
-                "message lacks {word:?}:\n{message}"
-            );
+            assert!(message.contains(word), "message lacks {word:?}:\n{message}");
         }
         message
     }
 
     /// A RON scene with one dynamic body whose body fields are `fields`.
     fn one_body_ron(fields: &str) -> String {
-        format!("(bodies: [\n    (kind: Static, shape: Circle(radius: 1.0)),\n    ({fields}),\n])\n")
+        format!(
+            "(bodies: [\n    (kind: Static, shape: Circle(radius: 1.0)),\n    ({fields}),\n])\n"
+        )
     }
 
     fn unique_temp(name: &str) -> std::path::PathBuf {
         use std::sync::atomic::{AtomicUsize, Ordering};
         static COUNTER: AtomicUsize = AtomicUsize::new(0);
         let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-        std::env::temp_dir().join(format!("tumble-scene-test-{}-{n}-{name}", std::process::id()))
+        std::env::temp_dir().join(format!(
+            "tumble-scene-test-{}-{n}-{name}",
+            std::process::id()
+        ))
     }
 
     #[test]
@@ -541,19 +571,22 @@ mod tests {
 
     #[test]
     fn a_given_name_is_kept_and_a_bom_is_skipped() {
-        let text = format!("\u{feff}(name: \"pile\", bodies: [])");
-        let scene = ron(&text, "x/y.ron").unwrap();
+        let scene = ron("\u{feff}(name: \"pile\", bodies: [])", "x/y.ron").unwrap();
         assert_eq!(scene.name, "pile");
     }
 
     #[test]
     fn syntax_error_names_file_line_and_column() {
         // Missing comma after the first body.
-        let text = "(bodies: [\n    (shape: Circle(radius: 1.0))\n    (shape: Circle(radius: 1.0)),\n])";
+        let text =
+            "(bodies: [\n    (shape: Circle(radius: 1.0))\n    (shape: Circle(radius: 1.0)),\n])";
         let m = expect_err(ron(text, "broken.ron"), &["broken.ron:3:", "comma"]);
         assert!(m.contains("hint:"), "{m}");
         let text = "{\"bodies\": [\n  {\"shape\": {\"Circle\": {\"radius\": 1.0}}},\n]}";
-        expect_err(json(text, "broken.json"), &["broken.json:3:", "trailing comma"]);
+        expect_err(
+            json(text, "broken.json"),
+            &["broken.json:3:", "trailing comma"],
+        );
         // Cut short.
         expect_err(ron("(bodies: [", "short.ron"), &["short.ron:1:"]);
         expect_err(json("{\"bodies\": [", "short.json"), &["short.json:1:"]);
@@ -565,36 +598,66 @@ mod tests {
         let text = one_body_ron("shape: Circle(radius: 1.0), frictoin: 0.3");
         let m = expect_err(
             ron(&text, "typo.ron"),
-            &["typo.ron:3:", "frictoin", "friction", "restitution", "fixed_rotation"],
+            &[
+                "typo.ron:3:",
+                "frictoin",
+                "friction",
+                "restitution",
+                "fixed_rotation",
+            ],
         );
         assert!(m.contains("hint: allowed fields"), "{m}");
         let text = one_body_ron("shape: Circle(radiuss: 1.0)");
-        expect_err(ron(&text, "typo2.ron"), &["typo2.ron:3:", "radiuss", "`radius`"]);
+        expect_err(
+            ron(&text, "typo2.ron"),
+            &["typo2.ron:3:", "radiuss", "`radius`"],
+        );
         let text = "{\"bodies\": [], \"gravty\": [0, -10]}";
         expect_err(
             json(text, "typo.json"),
-            &["typo.json:1:", "gravty", "`gravity`", "`substeps`", "`bodies`"],
+            &[
+                "typo.json:1:",
+                "gravty",
+                "`gravity`",
+                "`substeps`",
+                "`bodies`",
+            ],
         );
         // An unknown shape.
         let text = one_body_ron("shape: Triangle(radius: 1.0)");
-        expect_err(ron(&text, "shape.ron"), &["shape.ron:3:", "Circle", "Box", "Polygon"]);
+        expect_err(
+            ron(&text, "shape.ron"),
+            &["shape.ron:3:", "Circle", "Box", "Polygon"],
+        );
         let text = "{\"bodies\": [{\"shape\": {\"Square\": {}}}]}";
-        expect_err(json(text, "shape.json"), &["shape.json:1:", "Circle", "Box", "Polygon"]);
+        expect_err(
+            json(text, "shape.json"),
+            &["shape.json:1:", "Circle", "Box", "Polygon"],
+        );
         // A missing required field.
-        expect_err(ron("(gravity: (0, 1))", "nobodies.ron"), &["nobodies.ron:", "bodies"]);
+        expect_err(
+            ron("(gravity: (0, 1))", "nobodies.ron"),
+            &["nobodies.ron:", "bodies"],
+        );
         let text = "{\"bodies\": [{\"position\": [1, 2]}]}";
         expect_err(json(text, "noshape.json"), &["noshape.json:1:", "shape"]);
     }
 
     #[test]
     fn wrong_type_names_the_place() {
-        let m = expect_err(ron("(substeps: \"four\", bodies: [])", "type.ron"), &["type.ron:1:"]);
+        let m = expect_err(
+            ron("(substeps: \"four\", bodies: [])", "type.ron"),
+            &["type.ron:1:"],
+        );
         assert!(m.contains("hint:"), "{m}");
         expect_err(
             json("{\"substeps\": \"four\", \"bodies\": []}", "type.json"),
             &["type.json:1:", "u32", "string"],
         );
-        expect_err(json("{\"substeps\": 2.5, \"bodies\": []}", "frac.json"), &["frac.json:1:"]);
+        expect_err(
+            json("{\"substeps\": 2.5, \"bodies\": []}", "frac.json"),
+            &["frac.json:1:"],
+        );
         expect_err(
             json("{\"substeps\": -1, \"bodies\": []}", "neg.json"),
             &["neg.json:1:", "-1"],
@@ -605,7 +668,8 @@ mod tests {
         // A pair of the wrong length.
         let text = "{\"gravity\": [0, -10, 3], \"bodies\": []}";
         expect_err(json(text, "len.json"), &["len.json:1:"]);
-        let text = "{\"bodies\": [{\"fixed_rotation\": 1, \"shape\": {\"Circle\": {\"radius\": 1}}}]}";
+        let text =
+            "{\"bodies\": [{\"fixed_rotation\": 1, \"shape\": {\"Circle\": {\"radius\": 1}}}]}";
         expect_err(json(text, "bool.json"), &["bool.json:1:", "bool"]);
     }
 
@@ -617,29 +681,53 @@ mod tests {
             &["neg.ron", "body 1", "shape.Circle.radius", "-1", "> 0"],
         );
         let text = one_body_ron("shape: Circle(radius: 0)");
-        expect_err(ron(&text, "zero.ron"), &["zero.ron", "body 1", "radius", "> 0"]);
+        expect_err(
+            ron(&text, "zero.ron"),
+            &["zero.ron", "body 1", "radius", "> 0"],
+        );
         let text = one_body_ron("shape: Box(half_extents: (1.0, 0.0))");
         expect_err(
             ron(&text, "box.ron"),
-            &["box.ron", "body 1", "shape.Box.half_extents", "[1.0, 0.0]", "> 0"],
+            &[
+                "box.ron",
+                "body 1",
+                "shape.Box.half_extents",
+                "[1.0, 0.0]",
+                "> 0",
+            ],
         );
         let text = "{\"bodies\": [{\"shape\": {\"Box\": {\"half_extents\": [-1, 1]}}}]}";
-        expect_err(json(text, "box.json"), &["box.json", "body 0", "half_extents", "> 0"]);
+        expect_err(
+            json(text, "box.json"),
+            &["box.json", "body 0", "half_extents", "> 0"],
+        );
     }
 
     #[test]
     fn non_finite_numbers() {
         let text = one_body_ron("angle: NaN, shape: Circle(radius: 1.0)");
-        expect_err(ron(&text, "nan.ron"), &["nan.ron", "body 1", "angle", "NaN", "finite"]);
+        expect_err(
+            ron(&text, "nan.ron"),
+            &["nan.ron", "body 1", "angle", "NaN", "finite"],
+        );
         let text = one_body_ron("position: (inf, 0.0), shape: Circle(radius: 1.0)");
-        expect_err(ron(&text, "inf.ron"), &["inf.ron", "body 1", "position", "inf", "finite"]);
+        expect_err(
+            ron(&text, "inf.ron"),
+            &["inf.ron", "body 1", "position", "inf", "finite"],
+        );
         // Too large for f32: becomes infinite, then refused by validation.
         let text = one_body_ron("linear_velocity: (1e39, 0.0), shape: Circle(radius: 1.0)");
-        expect_err(ron(&text, "big.ron"), &["big.ron", "body 1", "linear_velocity", "finite"]);
+        expect_err(
+            ron(&text, "big.ron"),
+            &["big.ron", "body 1", "linear_velocity", "finite"],
+        );
         let text = one_body_ron("angular_velocity: 1e999999, shape: Circle(radius: 1.0)");
         expect_err(ron(&text, "huge.ron"), &["huge.ron"]);
         let text = "{\"bodies\": [{\"density\": 1e39, \"shape\": {\"Circle\": {\"radius\": 1}}}]}";
-        expect_err(json(text, "big.json"), &["big.json", "body 0", "density", "finite"]);
+        expect_err(
+            json(text, "big.json"),
+            &["big.json", "body 0", "density", "finite"],
+        );
         // Beyond f64: serde_json refuses it at the number.
         let text = "{\"bodies\": [{\"density\": 1e999, \"shape\": {\"Circle\": {\"radius\": 1}}}]}";
         expect_err(json(text, "huge.json"), &["huge.json:1:", "out of range"]);
@@ -661,11 +749,20 @@ mod tests {
         );
         expect_err(
             ron(&text, "arrow.ron"),
-            &["arrow.ron", "body 1", "shape.Polygon.vertices", "convex", "counter-clockwise"],
+            &[
+                "arrow.ron",
+                "body 1",
+                "shape.Polygon.vertices",
+                "convex",
+                "counter-clockwise",
+            ],
         );
         // Clockwise winding.
         let text = one_body_ron("shape: Polygon(vertices: [(0.0, 0.0), (0.0, 1.0), (1.0, 0.0)])");
-        expect_err(ron(&text, "cw.ron"), &["cw.ron", "body 1", "vertices", "counter-clockwise"]);
+        expect_err(
+            ron(&text, "cw.ron"),
+            &["cw.ron", "body 1", "vertices", "counter-clockwise"],
+        );
     }
 
     #[test]
@@ -674,7 +771,12 @@ mod tests {
         let text = one_body_ron("shape: Polygon(vertices: [(0.0, 0.0), (1.0, 0.0), (2.0, 0.0)])");
         expect_err(
             ron(&text, "flat.ron"),
-            &["flat.ron", "body 1", "shape.Polygon.vertices", "non-zero area"],
+            &[
+                "flat.ron",
+                "body 1",
+                "shape.Polygon.vertices",
+                "non-zero area",
+            ],
         );
         // Too few and too many vertices.
         let text = one_body_ron("shape: Polygon(vertices: [(0.0, 0.0), (1.0, 0.0)])");
@@ -702,7 +804,13 @@ mod tests {
         let text = one_body_ron("density: 0.0, shape: Circle(radius: 1.0)");
         expect_err(
             ron(&text, "light.ron"),
-            &["light.ron", "body 1", "density", "0", "> 0 for a dynamic body"],
+            &[
+                "light.ron",
+                "body 1",
+                "density",
+                "0",
+                "> 0 for a dynamic body",
+            ],
         );
         // Static and kinematic bodies may have zero density.
         let text = "(bodies: [(kind: Kinematic, density: 0, shape: Circle(radius: 1.0))])";
@@ -711,7 +819,10 @@ mod tests {
 
     #[test]
     fn dt_must_be_positive() {
-        expect_err(ron("(dt: 0.0, bodies: [])", "dt.ron"), &["dt.ron", "`dt`", "0", "> 0"]);
+        expect_err(
+            ron("(dt: 0.0, bodies: [])", "dt.ron"),
+            &["dt.ron", "`dt`", "0", "> 0"],
+        );
         expect_err(
             json("{\"dt\": -0.01, \"bodies\": []}", "dt.json"),
             &["dt.json", "`dt`", "-0.01", "> 0"],
@@ -753,7 +864,11 @@ mod tests {
         let source = path.to_str().unwrap();
         let m = load(source, &limits).unwrap_err().to_string();
         std::fs::remove_file(&path).ok();
-        for word in [source, "more than the limit of 100 bytes", "--max-file-bytes"] {
+        for word in [
+            source,
+            "more than the limit of 100 bytes",
+            "--max-file-bytes",
+        ] {
             assert!(m.contains(word), "message lacks {word:?}:\n{m}");
         }
         // The default limit is 64 MiB and the same file passes it.
@@ -784,23 +899,40 @@ mod tests {
     fn missing_file_unknown_extension_and_unknown_name() {
         let missing = unique_temp("missing.ron");
         let source = missing.to_str().unwrap();
-        let m = load(source, &LoadLimits::default()).unwrap_err().to_string();
+        let m = load(source, &LoadLimits::default())
+            .unwrap_err()
+            .to_string();
         assert!(m.contains(source) && m.contains("cannot read"), "{m}");
 
-        let m = load("scene.yaml", &LoadLimits::default()).unwrap_err().to_string();
-        assert!(m.contains("scene.yaml") && m.contains("`.ron` or `.json`"), "{m}");
+        let m = load("scene.yaml", &LoadLimits::default())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            m.contains("scene.yaml") && m.contains("`.ron` or `.json`"),
+            "{m}"
+        );
 
-        let m = load("no_such_builtin_scene", &LoadLimits::default()).unwrap_err().to_string();
-        assert!(m.contains("no_such_builtin_scene") && m.contains("built-in scenes:"), "{m}");
+        let m = load("no_such_builtin_scene", &LoadLimits::default())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            m.contains("no_such_builtin_scene") && m.contains("built-in scenes:"),
+            "{m}"
+        );
         for name in builtin::names() {
             assert!(m.contains(name), "message lacks built-in {name:?}:\n{m}");
         }
 
         let dir = unique_temp("dir.ron");
         std::fs::create_dir_all(&dir).unwrap();
-        let m = load(dir.to_str().unwrap(), &LoadLimits::default()).unwrap_err().to_string();
+        let m = load(dir.to_str().unwrap(), &LoadLimits::default())
+            .unwrap_err()
+            .to_string();
         std::fs::remove_dir(&dir).ok();
-        assert!(m.contains("dir.ron") && m.contains("not a regular file"), "{m}");
+        assert!(
+            m.contains("dir.ron") && m.contains("not a regular file"),
+            "{m}"
+        );
     }
 
     #[test]
@@ -809,7 +941,10 @@ mod tests {
             let scene = load(name, &LoadLimits::default())
                 .unwrap_or_else(|e| panic!("built-in {name} does not load: {e}"));
             assert!(!scene.name.is_empty());
-            assert!(builtin::describe(name).is_some(), "{name} has no description");
+            assert!(
+                builtin::describe(name).is_some(),
+                "{name} has no description"
+            );
         }
     }
 
@@ -820,9 +955,9 @@ mod tests {
         let e = parse(&bytes, Format::Ron, "bin.ron", &LoadLimits::default()).unwrap_err();
         let m = e.to_string();
         assert!(m.contains("bin.ron:2:") && m.contains("UTF-8"), "{m}");
-        assert_eq!(e.position(), Some((2, 22)));
+        assert_eq!(e.position(), Some((2, 21)));
         let e = parse(&bytes, Format::Json, "bin.json", &LoadLimits::default()).unwrap_err();
-        assert!(e.to_string().contains("bin.json:2:22"), "{e}");
+        assert!(e.to_string().contains("bin.json:2:21"), "{e}");
     }
 
     #[test]
@@ -834,7 +969,11 @@ mod tests {
         expect_err(json(&text, "deep.json"), &["deep.json:1:"]);
         let text = format!("{}{}", "(".repeat(depth), ")".repeat(depth));
         expect_err(ron(&text, "parens.ron"), &["parens.ron:1:"]);
-        let text = format!("{{\"name\": {}{}}}", "{\"a\":".repeat(depth), "}".repeat(depth));
+        let text = format!(
+            "{{\"name\": {}{}}}",
+            "{\"a\":".repeat(depth),
+            "}".repeat(depth)
+        );
         expect_err(json(&text, "obj.json"), &["obj.json:1:"]);
     }
 
@@ -849,8 +988,24 @@ mod tests {
             state
         };
         let inserts: &[&[u8]] = &[
-            b"NaN", b"inf", b"-", b"1e39", b"1e999", b"0", b"(", b")", b"[", b"]", b",", b"\"",
-            b"\xff", b"\xc3", b"//", b"/*", b"#![enable(implicit_some)]", b"99999999999999999999",
+            b"NaN",
+            b"inf",
+            b"-",
+            b"1e39",
+            b"1e999",
+            b"0",
+            b"(",
+            b")",
+            b"[",
+            b"]",
+            b",",
+            b"\"",
+            b"\xff",
+            b"\xc3",
+            b"//",
+            b"/*",
+            b"#![enable(implicit_some)]",
+            b"99999999999999999999",
         ];
         for (text, format) in [(GOOD_RON, Format::Ron), (GOOD_JSON, Format::Json)] {
             for _ in 0..3000 {

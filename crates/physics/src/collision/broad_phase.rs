@@ -87,7 +87,11 @@ impl BroadPhase {
         }
         // Median split on the longer axis of the centres; ties broken by id so the tree is
         // a pure function of the boxes.
-        let axis = if cmax[0] - cmin[0] >= cmax[1] - cmin[1] { 0 } else { 1 };
+        let axis = if cmax[0] - cmin[0] >= cmax[1] - cmin[1] {
+            0
+        } else {
+            1
+        };
         let mid = count / 2;
         let centers = &self.centers;
         items.select_nth_unstable_by(mid, |&a, &b| {
@@ -155,7 +159,10 @@ mod tests {
             .map(|_| {
                 let c = Vec2::new(next() * 50.0, next() * 50.0);
                 let h = Vec2::new(0.1 + next(), 0.1 + next());
-                Aabb { min: c - h, max: c + h }
+                Aabb {
+                    min: c - h,
+                    max: c + h,
+                }
             })
             .collect()
     }

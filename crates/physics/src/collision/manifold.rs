@@ -8,9 +8,9 @@
 
 use glam::Vec2;
 
+use crate::LINEAR_SLOP;
 use crate::math::{Transform, dot, normalize_and_length};
 use crate::shape::{Circle, Polygon, Shape};
-use crate::LINEAR_SLOP;
 
 /// One contact point.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -23,6 +23,9 @@ pub struct ManifoldPoint {
     pub anchor_b: Vec2,
     /// Signed distance between the surfaces along the normal (negative when overlapping).
     pub separation: f32,
+    /// The separation when the manifold was last computed; a recycled contact refreshes
+    /// `separation` from it and the bodies' motion since.
+    pub base_separation: f32,
     /// Accumulated normal impulse (warm start for the next step).
     pub normal_impulse: f32,
     /// Accumulated friction impulse.
@@ -81,9 +84,7 @@ pub fn collide(
             flip(&mut m, xf_a.p, xf_b.p);
             m
         }
-        (Shape::Polygon(a), Shape::Polygon(b)) => {
-            collide_polygons(a, xf_a, b, xf_b, max_distance)
-        }
+        (Shape::Polygon(a), Shape::Polygon(b)) => collide_polygons(a, xf_a, b, xf_b, max_distance),
     }
 }
 
@@ -104,7 +105,14 @@ fn world_point(xf_a: Transform, xf_b: Transform, local: Vec2) -> (Vec2, Vec2, Ve
     (point, anchor_a, anchor_b)
 }
 
-fn single(xf_a: Transform, xf_b: Transform, normal_local: Vec2, local: Vec2, sep: f32, id: u16) -> Manifold {
+fn single(
+    xf_a: Transform,
+    xf_b: Transform,
+    normal_local: Vec2,
+    local: Vec2,
+    sep: f32,
+    id: u16,
+) -> Manifold {
     let (point, anchor_a, anchor_b) = world_point(xf_a, xf_b, local);
     let mut m = Manifold {
         normal: xf_a.q.apply(normal_local),
@@ -347,8 +355,16 @@ pub fn collide_polygons(
         let sd = segment_distance(v11, v12, v21, v22);
         let corner = |f: f32| f == 0.0 || f == 1.0;
         if corner(sd.fraction1) && corner(sd.fraction2) {
-            let (p1, k1) = if sd.fraction1 == 0.0 { (v11, i11) } else { (v12, i12) };
-            let (p2, k2) = if sd.fraction2 == 0.0 { (v21, i21) } else { (v22, i22) };
+            let (p1, k1) = if sd.fraction1 == 0.0 {
+                (v11, i11)
+            } else {
+                (v12, i12)
+            };
+            let (p2, k2) = if sd.fraction2 == 0.0 {
+                (v21, i21)
+            } else {
+                (v22, i22)
+            };
             let distance = sd.distance_squared.sqrt();
             if distance > max_distance {
                 return Manifold::default();
@@ -367,7 +383,19 @@ pub fn collide_polygons(
             return single(xf_a, xf_b, n_ab, mid + origin, distance, id);
         }
     }
-    clip(xf_a, xf_b, origin, v11, v12, v21, v22, normal, (i11, i12, i21, i22), flip, max_distance)
+    clip(
+        xf_a,
+        xf_b,
+        origin,
+        v11,
+        v12,
+        v21,
+        v22,
+        normal,
+        (i11, i12, i21, i22),
+        flip,
+        max_distance,
+    )
 }
 
 /// Clips the incident edge v21–v22 to the side planes of the reference edge v11–v12.
@@ -456,7 +484,10 @@ mod tests {
     use crate::math::Rot;
 
     fn xf(x: f32, y: f32, angle: f32) -> Transform {
-        Transform { p: Vec2::new(x, y), q: Rot::from_angle(angle) }
+        Transform {
+            p: Vec2::new(x, y),
+            q: Rot::from_angle(angle),
+        }
     }
     const MAX: f32 = crate::SPECULATIVE_DISTANCE;
 
@@ -498,13 +529,7 @@ mod tests {
         assert!((m.points[0].point - Vec2::new(0.3, 0.475)).length() < 1e-6);
         // Off the top-right corner along the diagonal: vertex normal.
         let d = 0.2 / 2f32.sqrt();
-        let m = collide_polygon_circle(
-            &b,
-            xf(0.0, 0.0, 0.0),
-            &c,
-            xf(1.0 + d, 0.5 + d, 0.0),
-            MAX,
-        );
+        let m = collide_polygon_circle(&b, xf(0.0, 0.0, 0.0), &c, xf(1.0 + d, 0.5 + d, 0.0), MAX);
         assert_eq!(m.count, 1);
         let diag = Vec2::new(1.0, 1.0).normalize();
         assert!((m.normal - diag).length() < 1e-5);
@@ -525,7 +550,10 @@ mod tests {
         }
         // Clipping emits the incident edge's end vertex (x = 1.5) first.
         let xs = [m.points[0].point.x, m.points[1].point.x];
-        assert!((xs[0] - 1.5).abs() < 1e-6 && (xs[1] - 0.5).abs() < 1e-6, "{xs:?}");
+        assert!(
+            (xs[0] - 1.5).abs() < 1e-6 && (xs[1] - 0.5).abs() < 1e-6,
+            "{xs:?}"
+        );
         // Reference edge 2 (ground top, vertices 2→3), incident edge 0 of the box.
         assert_eq!(m.points[0].id, make_id(2, 1));
         assert_eq!(m.points[1].id, make_id(3, 0));
@@ -579,7 +607,13 @@ mod tests {
         // Two unit boxes corner to corner along the diagonal, 0.01 apart.
         let bx = Polygon::new_box(0.5, 0.5);
         let gap = 0.01 / 2f32.sqrt();
-        let m = collide_polygons(&bx, xf(0.0, 0.0, 0.0), &bx, xf(1.0 + gap, 1.0 + gap, 0.0), MAX);
+        let m = collide_polygons(
+            &bx,
+            xf(0.0, 0.0, 0.0),
+            &bx,
+            xf(1.0 + gap, 1.0 + gap, 0.0),
+            MAX,
+        );
         assert_eq!(m.count, 1);
         assert!((m.normal - Vec2::new(1.0, 1.0).normalize()).length() < 1e-4);
         assert!((m.points[0].separation - 0.01).abs() < 1e-5);

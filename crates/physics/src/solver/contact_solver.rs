@@ -153,7 +153,13 @@ fn write(states: &mut [BodyState], c: &ContactConstraint, a: &BodyState, b: &Bod
 }
 
 /// Computes effective masses, base separations and the pre-solve normal velocity.
-pub fn prepare_point(c: &ContactConstraint, p: &mut ConstraintPoint, sa: &BodyState, sb: &BodyState, separation: f32) {
+pub fn prepare_point(
+    c: &ContactConstraint,
+    p: &mut ConstraintPoint,
+    sa: &BodyState,
+    sb: &BodyState,
+    separation: f32,
+) {
     let n = c.normal;
     let t = right_perp(n);
     let (ra, rb) = (p.anchor_a, p.anchor_b);
@@ -165,7 +171,11 @@ pub fn prepare_point(c: &ContactConstraint, p: &mut ConstraintPoint, sa: &BodySt
     let rta = cross(ra, t);
     let rtb = cross(rb, t);
     let k_tangent = c.inv_mass_a + c.inv_mass_b + c.inv_i_a * rta * rta + c.inv_i_b * rtb * rtb;
-    p.tangent_mass = if k_tangent > 0.0 { 1.0 / k_tangent } else { 0.0 };
+    p.tangent_mass = if k_tangent > 0.0 {
+        1.0 / k_tangent
+    } else {
+        0.0
+    };
     p.total_normal_impulse = 0.0;
     p.relative_velocity = dot(n, relative_velocity(sa.v, sa.w, ra, sb.v, sb.w, rb));
 }
@@ -221,7 +231,8 @@ pub fn solve(
             };
             let (ra, rb) = (p.anchor_a, p.anchor_b);
             let vn = dot(relative_velocity(a.v, a.w, ra, b.v, b.w, rb), n);
-            let impulse = -p.normal_mass * (mass_scale * vn + bias) - impulse_scale * p.normal_impulse;
+            let impulse =
+                -p.normal_mass * (mass_scale * vn + bias) - impulse_scale * p.normal_impulse;
             let new_impulse = (p.normal_impulse + impulse).max(0.0);
             let applied = new_impulse - p.normal_impulse;
             p.normal_impulse = new_impulse;
@@ -258,7 +269,11 @@ pub fn solve(
 
 /// Restitution, once per step after the substeps: points that approached faster than the
 /// threshold and actually pushed get their rebound velocity `-e·vn` (SOFT_STEP.md 2.10).
-pub fn apply_restitution(constraints: &mut [ContactConstraint], states: &mut [BodyState], threshold: f32) {
+pub fn apply_restitution(
+    constraints: &mut [ContactConstraint],
+    states: &mut [BodyState],
+    threshold: f32,
+) {
     for c in constraints {
         if c.restitution == 0.0 {
             continue;

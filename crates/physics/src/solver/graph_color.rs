@@ -99,7 +99,11 @@ mod tests {
         }
         // A chain needs 2 colours; static contacts go to the top colours.
         assert!(!by_color[0].is_empty() && !by_color[1].is_empty());
-        assert!(by_color[2..DYNAMIC_COLOR_COUNT].iter().all(|l| l.is_empty()));
+        assert!(
+            by_color[2..DYNAMIC_COLOR_COUNT]
+                .iter()
+                .all(|l| l.is_empty())
+        );
         assert_eq!(by_color[OVERFLOW - 1].len(), 100);
     }
 
@@ -108,7 +112,10 @@ mod tests {
         let mut g = GraphColoring::default();
         g.reset(64);
         let colors: Vec<usize> = (1..30).map(|i| g.assign(Some(0), Some(i))).collect();
-        assert_eq!(&colors[..DYNAMIC_COLOR_COUNT], &(0..DYNAMIC_COLOR_COUNT).collect::<Vec<_>>()[..]);
+        assert_eq!(
+            &colors[..DYNAMIC_COLOR_COUNT],
+            &(0..DYNAMIC_COLOR_COUNT).collect::<Vec<_>>()[..]
+        );
         assert!(colors[DYNAMIC_COLOR_COUNT..].iter().all(|&c| c == OVERFLOW));
     }
 }

@@ -84,8 +84,12 @@ impl Solver {
         self.color_of.clear();
         let mut counts = [0usize; COLOR_COUNT];
         for (_, c) in touching {
-            let a = bodies[c.body_a as usize].dynamic.then_some(c.body_a as usize);
-            let b = bodies[c.body_b as usize].dynamic.then_some(c.body_b as usize);
+            let a = bodies[c.body_a as usize]
+                .dynamic
+                .then_some(c.body_a as usize);
+            let b = bodies[c.body_b as usize]
+                .dynamic
+                .then_some(c.body_b as usize);
             let color = self.coloring.assign(a, b);
             counts[color] += 1;
             self.color_of.push(color as u8);
@@ -101,7 +105,8 @@ impl Solver {
             offset += counts[color];
         }
         self.constraints.clear();
-        self.constraints.resize(offset, ContactConstraint::default());
+        self.constraints
+            .resize(offset, ContactConstraint::default());
         self.any_restitution = false;
         let mut cursor = start;
         for (k, &(contact_index, c)) in touching.iter().enumerate() {
@@ -154,7 +159,10 @@ impl Solver {
 
     /// Colours in use, overflow not counted.
     pub fn active_colors(&self) -> usize {
-        self.color_ranges[1..].iter().filter(|r| !r.is_empty()).count()
+        self.color_ranges[1..]
+            .iter()
+            .filter(|r| !r.is_empty())
+            .count()
     }
 
     /// Constraints in the overflow.
@@ -172,7 +180,13 @@ impl Solver {
     /// One solve or relax pass, every colour in order.
     pub fn solve(&mut self, states: &mut [BodyState], inv_h: f32, use_bias: bool, max_push: f32) {
         for r in &self.color_ranges {
-            contact_solver::solve(&mut self.constraints[r.clone()], states, inv_h, use_bias, max_push);
+            contact_solver::solve(
+                &mut self.constraints[r.clone()],
+                states,
+                inv_h,
+                use_bias,
+                max_push,
+            );
         }
     }
 
@@ -188,7 +202,13 @@ impl Solver {
 /// `1/(1 + h·c)` of `exp(-c·h)`, so it is defined per second whatever the step (Box2D
 /// `b2IntegrateVelocitiesTask`); gravity added undamped.
 #[inline]
-pub fn integrate_velocity(s: &mut BodyState, gravity: Vec2, h: f32, linear_damping: f32, angular_damping: f32) {
+pub fn integrate_velocity(
+    s: &mut BodyState,
+    gravity: Vec2,
+    h: f32,
+    linear_damping: f32,
+    angular_damping: f32,
+) {
     let mut v = s.v;
     let mut w = s.w;
     if linear_damping > 0.0 {
