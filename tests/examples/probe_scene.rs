@@ -1,23 +1,18 @@
+//! Steps a built-in scene and prints how still it is: `probe_scene NAME [STEPS] [HZ] [SUBSTEPS]`.
 use tumble_physics::*;
 fn main() {
     let a: Vec<String> = std::env::args().collect();
-    let scene = tumble_scene::builtin::build(&a[1]).unwrap();
-    let steps: u32 = a.get(2).map(|s| s.parse().unwrap()).unwrap_or(scene.steps);
-    let hz: f32 = a.get(3).map(|s| s.parse().unwrap()).unwrap_or(60.0);
-    let sub: u32 = a
-        .get(4)
-        .map(|s| s.parse().unwrap())
-        .unwrap_or(scene.substeps);
-    let ws: bool = a.get(5).map(|s| s == "1").unwrap_or(true);
+    let scene = tumble_scene::builtin::build(&a[1]).expect("a built-in scene name");
+    let steps: u32 = a.get(2).map_or(scene.steps, |s| s.parse().unwrap());
+    let hz: f32 = a.get(3).map_or(30.0, |s| s.parse().unwrap());
+    let sub: u32 = a.get(4).map_or(scene.substeps, |s| s.parse().unwrap());
     let mut w = World::from_scene(&scene, &Limits::default()).unwrap();
     w.settings_mut().contact_hertz = hz;
-    w.settings_mut().warm_starting = ws;
     let init: Vec<_> = (0..w.body_count()).map(|i| w.body(i).position).collect();
     for s in 1..=steps {
         w.step(scene.dt, sub);
-        if s % (steps / 5).max(1) == 0 {
-            let mut maxv = (0.0f32, 0usize);
-            let mut maxd = (0.0f32, 0usize);
+        if s % (steps / 10).max(1) == 0 {
+            let (mut maxv, mut maxd) = ((0.0f32, 0usize), (0.0f32, 0usize));
             for i in 0..w.body_count() {
                 let b = w.body(i);
                 let v = b.linear_velocity.length();
@@ -31,17 +26,8 @@ fn main() {
             }
             let p = w.profile();
             println!(
-                "step {s}: max v {:.3} (body {} at {:?}) max disp {:.3} (body {}) contacts {} touching {} colors {} overflow {} ms {:.2}",
-                maxv.0,
-                maxv.1,
-                w.body(maxv.1).position,
-                maxd.0,
-                maxd.1,
-                p.contacts,
-                p.touching,
-                p.colors,
-                p.overflow,
-                p.step_ms
+                "step {s}: max v {:.4} (body {}) max disp {:.3} (body {}) contacts {} touching {} recycled {} moved {} colors {} overflow {} ms {:.2} bp {:.3}",
+                maxv.0, maxv.1, maxd.0, maxd.1, p.contacts, p.touching, p.recycled, p.moved, p.colors, p.overflow, p.step_ms, p.broad_phase_ms
             );
         }
     }

@@ -23,6 +23,7 @@
 pub mod collision;
 mod error;
 mod math;
+mod parallel;
 mod profile;
 mod scene;
 mod shape;

@@ -11,10 +11,11 @@ pub struct StepProfile {
     pub narrow_phase_ms: f64,
     /// Colour the constraint graph and prepare the contact constraints.
     pub prepare_ms: f64,
-    /// The substeps: integrate velocities, warm start, solve, integrate positions, relax.
+    /// The substeps (integrate velocities, warm start, solve, integrate positions, relax),
+    /// then the restitution pass.
     pub solve_ms: f64,
-    /// Restitution pass and storing impulses for the next step's warm start.
-    pub restitution_ms: f64,
+    /// Store the accumulated impulses into the contacts for the next step's warm start.
+    pub store_impulses_ms: f64,
     /// Apply the substep deltas to transforms, update bounding boxes.
     pub finalize_ms: f64,
     /// Bodies in the world.
@@ -39,7 +40,7 @@ pub const STAGE_NAMES: [&str; 6] = [
     "narrow_phase",
     "prepare",
     "solve",
-    "restitution",
+    "store_impulses",
     "finalize",
 ];
 
@@ -51,7 +52,7 @@ impl StepProfile {
             self.narrow_phase_ms,
             self.prepare_ms,
             self.solve_ms,
-            self.restitution_ms,
+            self.store_impulses_ms,
             self.finalize_ms,
         ];
         std::array::from_fn(|i| (STAGE_NAMES[i], ms[i]))

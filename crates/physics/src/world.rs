@@ -19,9 +19,7 @@ use crate::profile::StepProfile;
 use crate::scene::{BodyDef, BodyKind, Limits, SceneDef};
 use crate::shape::{Aabb, Shape};
 use crate::solver::contact_solver::{BodyState, Softness};
-use crate::solver::{
-    ContactInput, Solver, SolverBody, SolverParams, integrate_position, integrate_velocity,
-};
+use crate::solver::{BodyMotion, ContactInput, Solver, SolverBody, SolverParams, SubstepParams};
 use crate::{AABB_MARGIN, SPECULATIVE_DISTANCE};
 
 /// The knobs of the step that trade speed for accuracy. Defaults are Box2D v3's.
@@ -102,8 +100,6 @@ struct BodySim {
     xf: Transform,
     kind: BodyKind,
     inv_inertia: f32,
-    linear_damping: f32,
-    angular_damping: f32,
     friction: f32,
     restitution: f32,
     /// Largest centre-to-surface distance, for rotation-swept bounds.
@@ -161,11 +157,13 @@ pub struct World {
     moved: Vec<u32>,
     moved_flags: Vec<bool>,
     tree_dirty: bool,
+    moved_since_rebuild: usize,
     broad_phase: BroadPhase,
     contacts: Vec<Contact>,
     pairs: FxHashMap<u64, u32>,
     solver: Solver,
     solver_bodies: Vec<SolverBody>,
+    motion: Vec<BodyMotion>,
     pool: std::sync::Arc<rayon::ThreadPool>,
     threads: usize,
     profile: StepProfile,
@@ -197,11 +195,13 @@ impl World {
             moved: Vec::new(),
             moved_flags: Vec::new(),
             tree_dirty: true,
+            moved_since_rebuild: 0,
             broad_phase: BroadPhase::default(),
             contacts: Vec::new(),
             pairs: FxHashMap::default(),
             solver: Solver::default(),
             solver_bodies: Vec::new(),
+            motion: Vec::new(),
             pool: build_pool(threads),
             threads,
             profile: StepProfile::default(),
@@ -306,8 +306,6 @@ impl World {
             xf,
             kind: def.kind,
             inv_inertia,
-            linear_damping: def.linear_damping,
-            angular_damping: def.angular_damping,
             friction: def.friction,
             restitution: def.restitution,
             extent,
@@ -322,6 +320,17 @@ impl World {
         self.fat_aabbs.push(aabb);
         self.moved.push(index as u32);
         self.moved_flags.push(true);
+        self.motion.push(BodyMotion {
+            dynamic: def.kind == BodyKind::Dynamic,
+            moves: def.kind != BodyKind::Static,
+            rotates: match def.kind {
+                BodyKind::Static => false,
+                BodyKind::Kinematic => true,
+                BodyKind::Dynamic => inv_inertia > 0.0,
+            },
+            linear_damping: def.linear_damping,
+            angular_damping: def.angular_damping,
+        });
         self.solver_bodies.push(SolverBody {
             inv_mass,
             inv_inertia,
@@ -493,7 +502,15 @@ impl World {
             return;
         }
         if self.tree_dirty {
-            self.broad_phase.rebuild(&self.fat_aabbs);
+            // A full rebuild when proxies were added or a quarter of them moved since the
+            // last one (the refitted tree has grown loose); otherwise a cheap refit.
+            let n = self.fat_aabbs.len();
+            if self.broad_phase.proxy_count() != n || self.moved_since_rebuild * 4 > n {
+                self.broad_phase.rebuild(&self.fat_aabbs);
+                self.moved_since_rebuild = 0;
+            } else {
+                self.broad_phase.refit(&self.fat_aabbs);
+            }
             self.tree_dirty = false;
         }
         let bp = &self.broad_phase;
@@ -668,27 +685,23 @@ impl World {
         profile.prepare_ms = ms(t);
 
         let t = Instant::now();
-        let gravity = s.gravity;
-        let mut caps = 0u64;
-        for _ in 0..substeps {
-            self.integrate_velocities(gravity, h);
-            self.solver.warm_start(&mut self.states);
-            self.solver
-                .solve(&mut self.states, inv_h, true, s.max_push_speed);
-            caps += self.integrate_positions(h, s.max_linear_speed);
-            for _ in 0..s.relax_iterations {
-                self.solver
-                    .solve(&mut self.states, inv_h, false, s.max_push_speed);
-            }
-        }
-        self.speed_caps += caps;
+        let step = SubstepParams {
+            substeps,
+            h,
+            gravity: s.gravity,
+            relax_iterations: s.relax_iterations,
+            max_push_speed: s.max_push_speed,
+            max_linear_speed: s.max_linear_speed,
+            restitution_threshold: s.restitution_threshold,
+        };
+        // Small worlds are not worth waking the other workers for every stage.
+        let workers = if self.solver.constraints.len() < 256 { 1 } else { self.threads };
+        self.speed_caps += self
+            .solver
+            .run_substeps(&mut self.states, &self.motion, &step, workers);
         profile.solve_ms = ms(t);
 
         let t = Instant::now();
-        if self.solver.any_restitution {
-            self.solver
-                .restitution(&mut self.states, s.restitution_threshold);
-        }
         for con in &self.solver.constraints {
             let m = &mut self.contacts[con.contact as usize].manifold;
             for (mp, cp) in m.points[..con.count].iter_mut().zip(&con.points) {
@@ -698,45 +711,7 @@ impl World {
                 mp.normal_velocity = cp.relative_velocity;
             }
         }
-        profile.restitution_ms = ms(t);
-    }
-
-    fn integrate_velocities(&mut self, gravity: Vec2, h: f32) {
-        let sims = &self.sims;
-        self.states
-            .par_iter_mut()
-            .with_min_len(1024)
-            .enumerate()
-            .for_each(|(i, s)| {
-                let sim = &sims[i];
-                if sim.kind == BodyKind::Dynamic {
-                    integrate_velocity(s, gravity, h, sim.linear_damping, sim.angular_damping);
-                }
-            });
-    }
-
-    /// Returns how many bodies hit a speed cap.
-    fn integrate_positions(&mut self, h: f32, max_speed: f32) -> u64 {
-        let sims = &self.sims;
-        self.states
-            .par_iter_mut()
-            .with_min_len(1024)
-            .enumerate()
-            .map(|(i, s)| {
-                let sim = &sims[i];
-                match sim.kind {
-                    BodyKind::Static => 0,
-                    BodyKind::Kinematic => {
-                        integrate_position(s, h, f32::INFINITY, true);
-                        0
-                    }
-                    BodyKind::Dynamic => {
-                        let rotates = sim.inv_inertia > 0.0;
-                        u64::from(integrate_position(s, h, max_speed, rotates))
-                    }
-                }
-            })
-            .sum()
+        profile.store_impulses_ms = ms(t);
     }
 
     /// Applies each body's substep deltas to its transform, resets them, and grows the fat
@@ -775,6 +750,7 @@ impl World {
                 self.tree_dirty = true;
             }
         }
+        self.moved_since_rebuild += self.moved.len();
     }
 }
 

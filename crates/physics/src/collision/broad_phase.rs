@@ -113,6 +113,30 @@ impl BroadPhase {
         self.build(left + 1, first + mid, end, aabbs);
     }
 
+    /// Proxies the tree was built over.
+    pub fn proxy_count(&self) -> usize {
+        self.items.len()
+    }
+
+    /// Recomputes every node's box from `aabbs` without changing the tree's shape: O(n), far
+    /// cheaper than a rebuild, at the price of looser nodes as bodies wander. Nodes are stored
+    /// parent before child, so a reverse walk sees children first.
+    pub fn refit(&mut self, aabbs: &[Aabb]) {
+        for k in (0..self.nodes.len()).rev() {
+            let node = self.nodes[k];
+            let first = node.child_or_first as usize;
+            let aabb = if node.is_leaf() {
+                let items = &self.items[first..first + node.count as usize];
+                items[1..]
+                    .iter()
+                    .fold(aabbs[items[0] as usize], |b, &i| b.union(&aabbs[i as usize]))
+            } else {
+                self.nodes[first].aabb.union(&self.nodes[first + 1].aabb)
+            };
+            self.nodes[k].aabb = aabb;
+        }
+    }
+
     /// Calls `f` with every proxy whose fat box overlaps `aabb`, in tree order.
     pub fn query(&self, aabb: &Aabb, aabbs: &[Aabb], mut f: impl FnMut(u32)) {
         if self.nodes.is_empty() {
@@ -178,6 +202,26 @@ mod tests {
             found.sort();
             let brute: Vec<usize> = (0..aabbs.len()).filter(|&j| aabbs[j].overlaps(q)).collect();
             assert_eq!(found, brute, "proxy {i}");
+        }
+    }
+
+    #[test]
+    fn refit_keeps_queries_exact() {
+        let mut aabbs = boxes(500);
+        let mut bp = BroadPhase::default();
+        bp.rebuild(&aabbs);
+        // Move every third box far away, then refit instead of rebuilding.
+        for (i, b) in aabbs.iter_mut().enumerate().filter(|(i, _)| i % 3 == 0) {
+            let d = Vec2::new((i % 7) as f32 * 3.0 - 9.0, (i % 5) as f32 * 4.0 - 8.0);
+            *b = Aabb { min: b.min + d, max: b.max + d };
+        }
+        bp.refit(&aabbs);
+        for q in &aabbs {
+            let mut found = Vec::new();
+            bp.query(q, &aabbs, |j| found.push(j as usize));
+            found.sort();
+            let brute: Vec<usize> = (0..aabbs.len()).filter(|&j| aabbs[j].overlaps(q)).collect();
+            assert_eq!(found, brute);
         }
     }
 

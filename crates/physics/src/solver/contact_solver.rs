@@ -5,6 +5,7 @@
 use glam::Vec2;
 
 use crate::math::{Rot, cross, cross_sv, dot, right_perp};
+use crate::parallel::BodyStates;
 
 /// The part of a body the substep loop touches: 32 bytes, so 2 fit a cache line.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -132,23 +133,19 @@ fn relative_velocity(va: Vec2, wa: f32, ra: Vec2, vb: Vec2, wb: f32, rb: Vec2) -
 
 /// Reads both bodies' states.
 #[inline]
-fn read(states: &[BodyState], c: &ContactConstraint) -> (BodyState, BodyState) {
-    (states[c.body_a as usize], states[c.body_b as usize])
+fn read(states: &BodyStates<'_>, c: &ContactConstraint) -> (BodyState, BodyState) {
+    (states.get(c.body_a as usize), states.get(c.body_b as usize))
 }
 
 /// Writes back the velocities of the dynamic bodies only: static and kinematic bodies are
 /// shared by many constraints of one colour and must never be written.
 #[inline]
-fn write(states: &mut [BodyState], c: &ContactConstraint, a: &BodyState, b: &BodyState) {
+fn write(states: &BodyStates<'_>, c: &ContactConstraint, a: &BodyState, b: &BodyState) {
     if c.dynamic_a {
-        let s = &mut states[c.body_a as usize];
-        s.v = a.v;
-        s.w = a.w;
+        states.set_velocity(c.body_a as usize, a.v, a.w);
     }
     if c.dynamic_b {
-        let s = &mut states[c.body_b as usize];
-        s.v = b.v;
-        s.w = b.w;
+        states.set_velocity(c.body_b as usize, b.v, b.w);
     }
 }
 
@@ -181,7 +178,7 @@ pub fn prepare_point(
 }
 
 /// Applies last step's accumulated impulses again at the start of a substep.
-pub fn warm_start(constraints: &[ContactConstraint], states: &mut [BodyState]) {
+pub fn warm_start(constraints: &[ContactConstraint], states: &BodyStates<'_>) {
     for c in constraints {
         let (mut a, mut b) = read(states, c);
         let n = c.normal;
@@ -201,7 +198,7 @@ pub fn warm_start(constraints: &[ContactConstraint], states: &mut [BodyState]) {
 /// the relax pass also solves friction (Box2D HEAD does friction in relax only).
 pub fn solve(
     constraints: &mut [ContactConstraint],
-    states: &mut [BodyState],
+    states: &BodyStates<'_>,
     inv_h: f32,
     use_bias: bool,
     max_push_speed: f32,
@@ -210,7 +207,6 @@ pub fn solve(
         let (mut a, mut b) = read(states, c);
         let n = c.normal;
         let dp = b.dp - a.dp;
-        let mut total_normal = 0.0;
         for p in &mut c.points[..c.count] {
             // Current separation from the substep deltas; the normal stays fixed.
             let prb = b.dq.apply(p.anchor_b);
@@ -237,7 +233,6 @@ pub fn solve(
             let applied = new_impulse - p.normal_impulse;
             p.normal_impulse = new_impulse;
             p.total_normal_impulse = p.total_normal_impulse.max(new_impulse);
-            total_normal += new_impulse;
             let pv = n * applied;
             a.v -= pv * c.inv_mass_a;
             a.w -= c.inv_i_a * cross(ra, pv);
@@ -262,7 +257,6 @@ pub fn solve(
                 b.w += c.inv_i_b * cross(rb, pt);
             }
         }
-        let _ = total_normal;
         write(states, c, &a, &b);
     }
 }
@@ -271,7 +265,7 @@ pub fn solve(
 /// threshold and actually pushed get their rebound velocity `-e·vn` (SOFT_STEP.md 2.10).
 pub fn apply_restitution(
     constraints: &mut [ContactConstraint],
-    states: &mut [BodyState],
+    states: &BodyStates<'_>,
     threshold: f32,
 ) {
     for c in constraints {

@@ -12,9 +12,12 @@
 pub mod contact_solver;
 pub mod graph_color;
 
+use std::ops::Range;
+
 use glam::Vec2;
 
 use crate::collision::Manifold;
+use crate::parallel::{BodyStates, SharedSlice, SpinBarrier, worker_range};
 use crate::math::dot;
 use contact_solver::{BodyState, ConstraintPoint, ContactConstraint, Softness};
 use graph_color::{COLOR_COUNT, GraphColoring, OVERFLOW};
@@ -52,7 +55,7 @@ pub struct Solver {
     pub constraints: Vec<ContactConstraint>,
     /// `color_ranges[k]` is the range of `constraints` solved as stage k: k = 0 is the
     /// overflow, k = 1 + c is colour c.
-    pub color_ranges: Vec<std::ops::Range<usize>>,
+    pub color_ranges: Vec<Range<usize>>,
     coloring: GraphColoring,
     color_of: Vec<u8>,
     /// Whether any constraint of this step has restitution.
@@ -170,32 +173,152 @@ impl Solver {
         self.color_ranges[0].len()
     }
 
-    /// Warm start, every colour in order.
-    pub fn warm_start(&self, states: &mut [BodyState]) {
-        for r in &self.color_ranges {
-            contact_solver::warm_start(&self.constraints[r.clone()], states);
+    /// Runs the substeps, then restitution, on `workers` threads of the current rayon pool
+    /// (1: on this thread, with no synchronisation). Returns how often a speed cap bit.
+    ///
+    /// Every worker walks the same list of stages; inside a stage it takes its own share of
+    /// the bodies or of one colour's constraints, and a barrier closes the stage. The
+    /// overflow is solved by worker 0 alone. The result does not depend on `workers`: each
+    /// colour's constraints touch disjoint bodies, so their order within a colour is moot.
+    #[allow(unsafe_code)]
+    pub fn run_substeps(
+        &mut self,
+        states: &mut [BodyState],
+        motion: &[BodyMotion],
+        step: &SubstepParams,
+        workers: usize,
+    ) -> u64 {
+        let workers = workers.max(1);
+        let ranges = &self.color_ranges;
+        let any_restitution = self.any_restitution;
+        let constraints = SharedSlice::new(&mut self.constraints);
+        if workers == 1 {
+            let states = BodyStates::exclusive(states);
+            return run_worker(&constraints, ranges, any_restitution, &states, motion, step, 0, 1, None);
         }
+        // SAFETY: `run_worker` hands each worker disjoint body ranges in the integration
+        // stages, and in the constraint stages disjoint constraints of one colour, which touch
+        // disjoint dynamic bodies and write no other body; barriers separate the stages.
+        let states = unsafe { BodyStates::shared(states) };
+        let barrier = SpinBarrier::new(workers);
+        let caps: Vec<u64> = rayon::broadcast(|ctx| {
+            run_worker(
+                &constraints,
+                ranges,
+                any_restitution,
+                &states,
+                motion,
+                step,
+                ctx.index(),
+                workers,
+                Some(&barrier),
+            )
+        });
+        caps.iter().sum()
     }
+}
 
-    /// One solve or relax pass, every colour in order.
-    pub fn solve(&mut self, states: &mut [BodyState], inv_h: f32, use_bias: bool, max_push: f32) {
-        for r in &self.color_ranges {
-            contact_solver::solve(
-                &mut self.constraints[r.clone()],
-                states,
-                inv_h,
-                use_bias,
-                max_push,
-            );
-        }
-    }
+/// What the integration stages need of a body.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct BodyMotion {
+    /// Gravity and damping act on it, and the speed cap.
+    pub dynamic: bool,
+    /// It moves at all (dynamic or kinematic).
+    pub moves: bool,
+    /// It turns (kinematic, or dynamic with non-zero inverse inertia).
+    pub rotates: bool,
+    /// Damping per second.
+    pub linear_damping: f32,
+    /// Damping per second.
+    pub angular_damping: f32,
+}
 
-    /// The restitution pass.
-    pub fn restitution(&mut self, states: &mut [BodyState], threshold: f32) {
-        for r in &self.color_ranges {
-            contact_solver::apply_restitution(&mut self.constraints[r.clone()], states, threshold);
+/// The knobs of one run of substeps.
+#[derive(Clone, Copy, Debug)]
+pub struct SubstepParams {
+    /// Substeps in the step.
+    pub substeps: u32,
+    /// Substep length.
+    pub h: f32,
+    /// Gravity.
+    pub gravity: Vec2,
+    /// Relax passes per substep.
+    pub relax_iterations: u32,
+    /// Push-out speed cap.
+    pub max_push_speed: f32,
+    /// Linear speed cap.
+    pub max_linear_speed: f32,
+    /// Restitution threshold.
+    pub restitution_threshold: f32,
+}
+
+/// One worker's walk through the stages of the substep loop.
+#[allow(unsafe_code)]
+fn run_worker(
+    constraints: &SharedSlice<'_, ContactConstraint>,
+    ranges: &[Range<usize>],
+    any_restitution: bool,
+    states: &BodyStates<'_>,
+    motion: &[BodyMotion],
+    p: &SubstepParams,
+    worker: usize,
+    workers: usize,
+    barrier: Option<&SpinBarrier>,
+) -> u64 {
+    let sync = || {
+        if let Some(b) = barrier {
+            b.wait();
+        }
+    };
+    let bodies = worker_range(&(0..motion.len()), worker, workers);
+    let inv_h = 1.0 / p.h;
+    // A colour stage: worker 0 alone takes the overflow (stage 0), the others share colours.
+    let colors = |f: &mut dyn FnMut(&mut [ContactConstraint])| {
+        for (k, r) in ranges.iter().enumerate() {
+            if r.is_empty() {
+                continue;
+            }
+            let mine = if k == 0 {
+                if worker == 0 { r.clone() } else { r.start..r.start }
+            } else {
+                worker_range(r, worker, workers)
+            };
+            // SAFETY: worker ranges of one colour are disjoint, and barriers separate colours.
+            f(unsafe { constraints.range_mut(mine) });
+            sync();
+        }
+    };
+    let mut caps = 0u64;
+    for _ in 0..p.substeps {
+        for i in bodies.clone() {
+            let m = &motion[i];
+            if m.dynamic {
+                let mut s = states.get(i);
+                integrate_velocity(&mut s, p.gravity, p.h, m.linear_damping, m.angular_damping);
+                states.set(i, s);
+            }
+        }
+        sync();
+        colors(&mut |c| contact_solver::warm_start(c, states));
+        colors(&mut |c| contact_solver::solve(c, states, inv_h, true, p.max_push_speed));
+        for i in bodies.clone() {
+            let m = &motion[i];
+            if m.moves {
+                let mut s = states.get(i);
+                let cap = if m.dynamic { p.max_linear_speed } else { f32::INFINITY };
+                caps += u64::from(integrate_position(&mut s, p.h, cap, m.rotates) && m.dynamic);
+                states.set(i, s);
+            }
+        }
+        sync();
+        for _ in 0..p.relax_iterations {
+            colors(&mut |c| contact_solver::solve(c, states, inv_h, false, p.max_push_speed));
         }
     }
+    if any_restitution {
+        colors(&mut |c| contact_solver::apply_restitution(c, states, p.restitution_threshold));
+    }
+    caps
 }
 
 /// Integrates one dynamic body's velocity over a substep: damping as the Padé approximation
