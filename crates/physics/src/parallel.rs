@@ -107,7 +107,9 @@ impl<'a, T> SharedSlice<'a, T> {
     pub unsafe fn range_mut(&self, range: Range<usize>) -> &mut [T] {
         assert!(range.start <= range.end && range.end <= self.len);
         // SAFETY: in bounds; exclusivity is the caller's contract.
-        unsafe { std::slice::from_raw_parts_mut(self.ptr.add(range.start), range.end - range.start) }
+        unsafe {
+            std::slice::from_raw_parts_mut(self.ptr.add(range.start), range.end - range.start)
+        }
     }
 }
 
@@ -153,7 +155,7 @@ impl SpinBarrier {
                 std::hint::spin_loop();
                 spins += 1;
                 // On an oversubscribed machine let the late worker run.
-                if spins > 2000 {
+                if spins > 64 {
                     std::thread::yield_now();
                 }
             }
@@ -184,7 +186,10 @@ mod tests {
     #[test]
     fn barrier_orders_phases() {
         use std::sync::atomic::AtomicU64;
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(3).build().unwrap();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(3)
+            .build()
+            .unwrap();
         let barrier = SpinBarrier::new(3);
         let data: Vec<AtomicU64> = (0..3).map(|_| AtomicU64::new(0)).collect();
         pool.broadcast(|ctx| {

@@ -162,6 +162,8 @@ pub struct World {
     contacts: Vec<Contact>,
     pairs: FxHashMap<u64, u32>,
     solver: Solver,
+    /// Indices of this step's touching contacts, in contact order (reused).
+    touching: Vec<u32>,
     solver_bodies: Vec<SolverBody>,
     motion: Vec<BodyMotion>,
     pool: std::sync::Arc<rayon::ThreadPool>,
@@ -200,6 +202,7 @@ impl World {
             contacts: Vec::new(),
             pairs: FxHashMap::default(),
             solver: Solver::default(),
+            touching: Vec::new(),
             solver_bodies: Vec::new(),
             motion: Vec::new(),
             pool: build_pool(threads),
@@ -659,27 +662,33 @@ impl World {
             static_softness: Softness::new(2.0 * hertz, s.contact_damping_ratio, h),
             warm_starting: s.warm_starting,
         };
+        self.touching.clear();
+        self.touching.extend(
+            self.contacts
+                .iter()
+                .enumerate()
+                .filter(|(_, c)| c.manifold.count > 0)
+                .map(|(k, _)| k as u32),
+        );
+        profile.touching = self.touching.len();
         let contacts = &self.contacts;
-        let touching = contacts
-            .iter()
-            .enumerate()
-            .filter(|(_, c)| c.manifold.count > 0)
-            .map(|(k, c)| {
-                (
-                    k as u32,
-                    ContactInput {
-                        body_a: c.body_a,
-                        body_b: c.body_b,
-                        friction: c.friction,
-                        restitution: c.restitution,
-                        manifold: &c.manifold,
-                    },
-                )
-            });
-        let touching: Vec<_> = touching.collect();
-        profile.touching = touching.len();
-        self.solver
-            .prepare(&touching, &self.solver_bodies, &self.states, &params);
+        let input = |k: u32| {
+            let c = &contacts[k as usize];
+            ContactInput {
+                body_a: c.body_a,
+                body_b: c.body_b,
+                friction: c.friction,
+                restitution: c.restitution,
+                manifold: &c.manifold,
+            }
+        };
+        self.solver.prepare(
+            &self.touching,
+            &input,
+            &self.solver_bodies,
+            &self.states,
+            &params,
+        );
         profile.colors = self.solver.active_colors();
         profile.overflow = self.solver.overflow_count();
         profile.prepare_ms = ms(t);
@@ -695,7 +704,11 @@ impl World {
             restitution_threshold: s.restitution_threshold,
         };
         // Small worlds are not worth waking the other workers for every stage.
-        let workers = if self.solver.constraints.len() < 256 { 1 } else { self.threads };
+        let workers = if self.solver.constraints.len() < 256 {
+            1
+        } else {
+            self.threads
+        };
         self.speed_caps += self
             .solver
             .run_substeps(&mut self.states, &self.motion, &step, workers);

@@ -127,9 +127,9 @@ impl BroadPhase {
             let first = node.child_or_first as usize;
             let aabb = if node.is_leaf() {
                 let items = &self.items[first..first + node.count as usize];
-                items[1..]
-                    .iter()
-                    .fold(aabbs[items[0] as usize], |b, &i| b.union(&aabbs[i as usize]))
+                items[1..].iter().fold(aabbs[items[0] as usize], |b, &i| {
+                    b.union(&aabbs[i as usize])
+                })
             } else {
                 self.nodes[first].aabb.union(&self.nodes[first + 1].aabb)
             };
@@ -213,7 +213,10 @@ mod tests {
         // Move every third box far away, then refit instead of rebuilding.
         for (i, b) in aabbs.iter_mut().enumerate().filter(|(i, _)| i % 3 == 0) {
             let d = Vec2::new((i % 7) as f32 * 3.0 - 9.0, (i % 5) as f32 * 4.0 - 8.0);
-            *b = Aabb { min: b.min + d, max: b.max + d };
+            *b = Aabb {
+                min: b.min + d,
+                max: b.max + d,
+            };
         }
         bp.refit(&aabbs);
         for q in &aabbs {

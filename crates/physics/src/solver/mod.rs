@@ -11,16 +11,20 @@
 
 pub mod contact_solver;
 pub mod graph_color;
+pub mod wide;
 
 use std::ops::Range;
+
+use rayon::prelude::*;
 
 use glam::Vec2;
 
 use crate::collision::Manifold;
-use crate::parallel::{BodyStates, SharedSlice, SpinBarrier, worker_range};
 use crate::math::dot;
+use crate::parallel::{BodyStates, SharedSlice, SpinBarrier, worker_range};
 use contact_solver::{BodyState, ConstraintPoint, ContactConstraint, Softness};
 use graph_color::{COLOR_COUNT, GraphColoring, OVERFLOW};
+use wide::{LANES, WideConstraint};
 
 /// What prepare needs to know of a body.
 #[derive(Clone, Copy, Debug)]
@@ -56,8 +60,17 @@ pub struct Solver {
     /// `color_ranges[k]` is the range of `constraints` solved as stage k: k = 0 is the
     /// overflow, k = 1 + c is colour c.
     pub color_ranges: Vec<Range<usize>>,
+    /// The coloured constraints packed eight to a wide constraint; `wide_ranges[k]` matches
+    /// `color_ranges[k]` (the overflow, k = 0, is never packed).
+    pub wide: Vec<WideConstraint>,
+    /// See `wide`.
+    pub wide_ranges: Vec<Range<usize>>,
     coloring: GraphColoring,
     color_of: Vec<u8>,
+    /// For each constraint slot, the index of the touching contact it is built from.
+    slot_source: Vec<u32>,
+    /// For each wide constraint, the range of `constraints` packed into it.
+    wide_source: Vec<Range<u32>>,
     /// Whether any constraint of this step has restitution.
     pub any_restitution: bool,
 }
@@ -78,7 +91,8 @@ impl Solver {
     /// indices in contact order.
     pub fn prepare<'a>(
         &mut self,
-        touching: &[(u32, ContactInput<'a>)],
+        touching: &[u32],
+        input: &(dyn Fn(u32) -> ContactInput<'a> + Sync),
         bodies: &[SolverBody],
         states: &[BodyState],
         params: &SolverParams,
@@ -86,7 +100,8 @@ impl Solver {
         self.coloring.reset(bodies.len());
         self.color_of.clear();
         let mut counts = [0usize; COLOR_COUNT];
-        for (_, c) in touching {
+        for &k in touching {
+            let c = input(k);
             let a = bodies[c.body_a as usize]
                 .dynamic
                 .then_some(c.body_a as usize);
@@ -107,57 +122,65 @@ impl Solver {
             self.color_ranges.push(offset..offset + counts[color]);
             offset += counts[color];
         }
+        // Which touching contact goes to each slot (serial, cheap); then every slot is built
+        // in parallel, each writing only itself.
+        self.slot_source.clear();
+        self.slot_source.resize(offset, 0);
+        let mut cursor = start;
+        for (k, &color) in self.color_of.iter().enumerate() {
+            let color = color as usize;
+            self.slot_source[cursor[color]] = k as u32;
+            cursor[color] += 1;
+        }
         self.constraints.clear();
         self.constraints
             .resize(offset, ContactConstraint::default());
-        self.any_restitution = false;
-        let mut cursor = start;
-        for (k, &(contact_index, c)) in touching.iter().enumerate() {
-            let color = self.color_of[k] as usize;
-            let slot = cursor[color];
-            cursor[color] += 1;
-            let ba = bodies[c.body_a as usize];
-            let bb = bodies[c.body_b as usize];
-            let m = c.manifold;
-            let mut con = ContactConstraint {
-                body_a: c.body_a,
-                body_b: c.body_b,
-                contact: contact_index,
-                dynamic_a: ba.dynamic,
-                dynamic_b: bb.dynamic,
-                inv_mass_a: ba.inv_mass,
-                inv_i_a: ba.inv_inertia,
-                inv_mass_b: bb.inv_mass,
-                inv_i_b: bb.inv_inertia,
-                normal: m.normal,
-                friction: c.friction,
-                restitution: c.restitution,
-                softness: if ba.dynamic && bb.dynamic {
-                    params.contact_softness
-                } else {
-                    params.static_softness
-                },
-                count: m.count,
-                points: [ConstraintPoint::default(); 2],
-            };
-            self.any_restitution |= c.restitution > 0.0;
-            let sa = &states[c.body_a as usize];
-            let sb = &states[c.body_b as usize];
-            for (i, mp) in m.points().iter().enumerate() {
-                let mut p = ConstraintPoint {
-                    anchor_a: mp.anchor_a,
-                    anchor_b: mp.anchor_b,
-                    ..ConstraintPoint::default()
-                };
-                if params.warm_starting {
-                    p.normal_impulse = mp.normal_impulse;
-                    p.tangent_impulse = mp.tangent_impulse;
+        let slot_source = &self.slot_source;
+        self.constraints
+            .par_iter_mut()
+            .with_min_len(256)
+            .enumerate()
+            .for_each(|(slot, con)| {
+                let contact_index = touching[slot_source[slot] as usize];
+                *con =
+                    build_constraint(contact_index, &input(contact_index), bodies, states, params);
+            });
+        self.any_restitution = self.constraints.iter().any(|c| c.restitution > 0.0);
+
+        // Pack each colour eight to a wide constraint; again one slot per task.
+        self.wide_ranges.clear();
+        self.wide_source.clear();
+        for (k, r) in self.color_ranges.iter().enumerate() {
+            let start = self.wide_source.len();
+            if k > 0 {
+                let mut first = r.start;
+                while first < r.end {
+                    let last = (first + LANES).min(r.end);
+                    self.wide_source.push(first as u32..last as u32);
+                    first = last;
                 }
-                contact_solver::prepare_point(&con, &mut p, sa, sb, mp.separation);
-                con.points[i] = p;
             }
-            self.constraints[slot] = con;
+            self.wide_ranges.push(start..self.wide_source.len());
         }
+        // Reuse the buffer: a fresh 2 MB allocation each step costs page faults.
+        let constraints = &self.constraints;
+        let wide_source = &self.wide_source;
+        if self.wide.len() > wide_source.len() {
+            self.wide.truncate(wide_source.len());
+        }
+        while self.wide.len() < wide_source.len() {
+            let r = &wide_source[self.wide.len()];
+            self.wide.push(WideConstraint::pack(
+                &constraints[r.start as usize..r.end as usize],
+            ));
+        }
+        self.wide
+            .par_iter_mut()
+            .zip(wide_source.par_iter())
+            .with_min_len(64)
+            .for_each(|(w, r)| {
+                *w = WideConstraint::pack(&constraints[r.start as usize..r.end as usize])
+            });
     }
 
     /// Colours in use, overflow not counted.
@@ -189,33 +212,117 @@ impl Solver {
         workers: usize,
     ) -> u64 {
         let workers = workers.max(1);
-        let ranges = &self.color_ranges;
+        let overflow = self.color_ranges[0].clone();
         let any_restitution = self.any_restitution;
-        let constraints = SharedSlice::new(&mut self.constraints);
-        if workers == 1 {
+        let stages = Stages {
+            overflow_len: overflow.len(),
+            overflow: SharedSlice::new(&mut self.constraints[overflow]),
+            wide: SharedSlice::new(&mut self.wide),
+            wide_ranges: &self.wide_ranges,
+            any_restitution,
+        };
+        let caps = if workers == 1 {
             let states = BodyStates::exclusive(states);
-            return run_worker(&constraints, ranges, any_restitution, &states, motion, step, 0, 1, None);
+            run_worker(&stages, &states, motion, step, 0, 1, None)
+        } else {
+            run_parallel(&stages, states, motion, step, workers)
+        };
+        // Store needs the impulses in the scalar constraints.
+        for (k, r) in self.wide_ranges.iter().enumerate().skip(1) {
+            let cr = self.color_ranges[k].clone();
+            for (j, w) in self.wide[r.clone()].iter().enumerate() {
+                let first = cr.start + j * LANES;
+                let last = (first + LANES).min(cr.end);
+                w.unpack_impulses(&mut self.constraints[first..last]);
+            }
         }
-        // SAFETY: `run_worker` hands each worker disjoint body ranges in the integration
-        // stages, and in the constraint stages disjoint constraints of one colour, which touch
-        // disjoint dynamic bodies and write no other body; barriers separate the stages.
-        let states = unsafe { BodyStates::shared(states) };
-        let barrier = SpinBarrier::new(workers);
-        let caps: Vec<u64> = rayon::broadcast(|ctx| {
-            run_worker(
-                &constraints,
-                ranges,
-                any_restitution,
-                &states,
-                motion,
-                step,
-                ctx.index(),
-                workers,
-                Some(&barrier),
-            )
-        });
-        caps.iter().sum()
+        caps
     }
+}
+
+#[allow(unsafe_code)]
+fn run_parallel(
+    stages: &Stages<'_>,
+    states: &mut [BodyState],
+    motion: &[BodyMotion],
+    step: &SubstepParams,
+    workers: usize,
+) -> u64 {
+    // SAFETY: `run_worker` hands each worker disjoint body ranges in the integration
+    // stages, and in the constraint stages disjoint constraints of one colour, which touch
+    // disjoint dynamic bodies and write no other body; barriers separate the stages.
+    let states = unsafe { BodyStates::shared(states) };
+    // Spinning workers beyond the core count only wait on each other: cap them there.
+    let workers = workers
+        .min(rayon::current_num_threads())
+        .min(crate::default_thread_count());
+    let barrier = SpinBarrier::new(workers);
+    let caps: Vec<u64> = rayon::broadcast(|ctx| {
+        if ctx.index() >= workers {
+            return 0;
+        }
+        run_worker(
+            stages,
+            &states,
+            motion,
+            step,
+            ctx.index(),
+            workers,
+            Some(&barrier),
+        )
+    });
+    caps.iter().sum()
+}
+
+/// Builds one constraint from its contact: copies what the substeps need and computes the
+/// effective masses and base separations (SOFT_STEP.md 2.4).
+fn build_constraint(
+    contact_index: u32,
+    c: &ContactInput<'_>,
+    bodies: &[SolverBody],
+    states: &[BodyState],
+    params: &SolverParams,
+) -> ContactConstraint {
+    let ba = bodies[c.body_a as usize];
+    let bb = bodies[c.body_b as usize];
+    let m = c.manifold;
+    let mut con = ContactConstraint {
+        body_a: c.body_a,
+        body_b: c.body_b,
+        contact: contact_index,
+        dynamic_a: ba.dynamic,
+        dynamic_b: bb.dynamic,
+        inv_mass_a: ba.inv_mass,
+        inv_i_a: ba.inv_inertia,
+        inv_mass_b: bb.inv_mass,
+        inv_i_b: bb.inv_inertia,
+        normal: m.normal,
+        friction: c.friction,
+        restitution: c.restitution,
+        softness: if ba.dynamic && bb.dynamic {
+            params.contact_softness
+        } else {
+            params.static_softness
+        },
+        count: m.count,
+        points: [ConstraintPoint::default(); 2],
+    };
+    let sa = &states[c.body_a as usize];
+    let sb = &states[c.body_b as usize];
+    for (i, mp) in m.points().iter().enumerate() {
+        let mut p = ConstraintPoint {
+            anchor_a: mp.anchor_a,
+            anchor_b: mp.anchor_b,
+            ..ConstraintPoint::default()
+        };
+        if params.warm_starting {
+            p.normal_impulse = mp.normal_impulse;
+            p.tangent_impulse = mp.tangent_impulse;
+        }
+        contact_solver::prepare_point(&con, &mut p, sa, sb, mp.separation);
+        con.points[i] = p;
+    }
+    con
 }
 
 /// What the integration stages need of a body.
@@ -252,12 +359,19 @@ pub struct SubstepParams {
     pub restitution_threshold: f32,
 }
 
+/// The constraint arrays the workers share.
+struct Stages<'a> {
+    overflow: SharedSlice<'a, ContactConstraint>,
+    overflow_len: usize,
+    wide: SharedSlice<'a, WideConstraint>,
+    wide_ranges: &'a [Range<usize>],
+    any_restitution: bool,
+}
+
 /// One worker's walk through the stages of the substep loop.
 #[allow(unsafe_code)]
 fn run_worker(
-    constraints: &SharedSlice<'_, ContactConstraint>,
-    ranges: &[Range<usize>],
-    any_restitution: bool,
+    stages: &Stages<'_>,
     states: &BodyStates<'_>,
     motion: &[BodyMotion],
     p: &SubstepParams,
@@ -272,19 +386,24 @@ fn run_worker(
     };
     let bodies = worker_range(&(0..motion.len()), worker, workers);
     let inv_h = 1.0 / p.h;
-    // A colour stage: worker 0 alone takes the overflow (stage 0), the others share colours.
-    let colors = |f: &mut dyn FnMut(&mut [ContactConstraint])| {
-        for (k, r) in ranges.iter().enumerate() {
+    // A colour stage: worker 0 alone solves the overflow on the scalar path, then every
+    // colour's wide constraints are shared among the workers, a barrier after each.
+    let colors = |overflow: &mut dyn FnMut(&mut [ContactConstraint]),
+                  colour: &mut dyn FnMut(&mut [WideConstraint])| {
+        if stages.overflow_len > 0 {
+            if worker == 0 {
+                // SAFETY: only worker 0 touches the overflow, and the others wait at the barrier.
+                overflow(unsafe { stages.overflow.range_mut(0..stages.overflow_len) });
+            }
+            sync();
+        }
+        for r in &stages.wide_ranges[1..] {
             if r.is_empty() {
                 continue;
             }
-            let mine = if k == 0 {
-                if worker == 0 { r.clone() } else { r.start..r.start }
-            } else {
-                worker_range(r, worker, workers)
-            };
+            let mine = worker_range(r, worker, workers);
             // SAFETY: worker ranges of one colour are disjoint, and barriers separate colours.
-            f(unsafe { constraints.range_mut(mine) });
+            colour(unsafe { stages.wide.range_mut(mine) });
             sync();
         }
     };
@@ -299,24 +418,40 @@ fn run_worker(
             }
         }
         sync();
-        colors(&mut |c| contact_solver::warm_start(c, states));
-        colors(&mut |c| contact_solver::solve(c, states, inv_h, true, p.max_push_speed));
+        colors(&mut |c| contact_solver::warm_start(c, states), &mut |c| {
+            wide::warm_start(c, states)
+        });
+        colors(
+            &mut |c| contact_solver::solve(c, states, inv_h, true, p.max_push_speed),
+            &mut |c| wide::solve(c, states, inv_h, true, p.max_push_speed),
+        );
         for i in bodies.clone() {
             let m = &motion[i];
             if m.moves {
                 let mut s = states.get(i);
-                let cap = if m.dynamic { p.max_linear_speed } else { f32::INFINITY };
+                let cap = if m.dynamic {
+                    p.max_linear_speed
+                } else {
+                    f32::INFINITY
+                };
                 caps += u64::from(integrate_position(&mut s, p.h, cap, m.rotates) && m.dynamic);
                 states.set(i, s);
             }
         }
         sync();
         for _ in 0..p.relax_iterations {
-            colors(&mut |c| contact_solver::solve(c, states, inv_h, false, p.max_push_speed));
+            colors(
+                &mut |c| contact_solver::solve(c, states, inv_h, false, p.max_push_speed),
+                &mut |c| wide::solve(c, states, inv_h, false, p.max_push_speed),
+            );
         }
     }
-    if any_restitution {
-        colors(&mut |c| contact_solver::apply_restitution(c, states, p.restitution_threshold));
+    if stages.any_restitution {
+        let t = p.restitution_threshold;
+        colors(
+            &mut |c| contact_solver::apply_restitution(c, states, t),
+            &mut |c| wide::apply_restitution(c, states, t),
+        );
     }
     caps
 }

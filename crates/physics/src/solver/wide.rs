@@ -1,0 +1,438 @@
+//! The contact solver eight constraints at a time (Box2D v3's `b2ContactConstraintSIMD`):
+//! each colour's constraints are packed into lanes of `f32x8`, bodies are gathered into
+//! lanes, solved with the same per-lane arithmetic as the scalar path in
+//! `contact_solver.rs`, and scattered back to dynamic bodies only.
+//!
+//! A colour never holds two constraints on one dynamic body, so lanes never conflict. The
+//! overflow, whose constraints may share bodies, stays on the scalar path.
+
+use glam::Vec2;
+use wide::f32x8;
+
+use super::contact_solver::{ConstraintPoint, ContactConstraint};
+use crate::parallel::BodyStates;
+
+/// Lanes per wide constraint.
+pub const LANES: usize = 8;
+
+/// One contact point in eight lanes.
+#[derive(Clone, Copy, Debug)]
+pub struct WidePoint {
+    anchor_ax: f32x8,
+    anchor_ay: f32x8,
+    anchor_bx: f32x8,
+    anchor_by: f32x8,
+    base_separation: f32x8,
+    normal_impulse: f32x8,
+    tangent_impulse: f32x8,
+    total_normal_impulse: f32x8,
+    normal_mass: f32x8,
+    tangent_mass: f32x8,
+    relative_velocity: f32x8,
+}
+
+/// Eight contact constraints, one per lane. Unused tail lanes have zero masses, so they
+/// apply no impulse.
+#[derive(Clone, Copy, Debug)]
+pub struct WideConstraint {
+    body_a: [u32; LANES],
+    body_b: [u32; LANES],
+    /// Lanes whose body is dynamic (the only ones written back).
+    dynamic_a: u8,
+    dynamic_b: u8,
+    /// Lanes in use.
+    lanes: u8,
+    any_friction: bool,
+    any_restitution: bool,
+    inv_mass_a: f32x8,
+    inv_i_a: f32x8,
+    inv_mass_b: f32x8,
+    inv_i_b: f32x8,
+    normal_x: f32x8,
+    normal_y: f32x8,
+    friction: f32x8,
+    restitution: f32x8,
+    bias_rate: f32x8,
+    mass_scale: f32x8,
+    impulse_scale: f32x8,
+    points: [WidePoint; 2],
+}
+
+impl WidePoint {
+    const ZERO: WidePoint = WidePoint {
+        anchor_ax: f32x8::ZERO,
+        anchor_ay: f32x8::ZERO,
+        anchor_bx: f32x8::ZERO,
+        anchor_by: f32x8::ZERO,
+        base_separation: f32x8::ZERO,
+        normal_impulse: f32x8::ZERO,
+        tangent_impulse: f32x8::ZERO,
+        total_normal_impulse: f32x8::ZERO,
+        normal_mass: f32x8::ZERO,
+        tangent_mass: f32x8::ZERO,
+        relative_velocity: f32x8::ZERO,
+    };
+
+    #[inline(always)]
+    fn set_lane(&mut self, l: usize, p: &ConstraintPoint) {
+        self.anchor_ax.as_mut_array()[l] = p.anchor_a.x;
+        self.anchor_ay.as_mut_array()[l] = p.anchor_a.y;
+        self.anchor_bx.as_mut_array()[l] = p.anchor_b.x;
+        self.anchor_by.as_mut_array()[l] = p.anchor_b.y;
+        self.base_separation.as_mut_array()[l] = p.base_separation;
+        self.normal_impulse.as_mut_array()[l] = p.normal_impulse;
+        self.tangent_impulse.as_mut_array()[l] = p.tangent_impulse;
+        self.total_normal_impulse.as_mut_array()[l] = p.total_normal_impulse;
+        self.normal_mass.as_mut_array()[l] = p.normal_mass;
+        self.tangent_mass.as_mut_array()[l] = p.tangent_mass;
+        self.relative_velocity.as_mut_array()[l] = p.relative_velocity;
+    }
+}
+
+impl WideConstraint {
+    /// Packs up to eight prepared constraints (one colour's) into lanes.
+    pub fn pack(src: &[ContactConstraint]) -> WideConstraint {
+        debug_assert!(!src.is_empty() && src.len() <= LANES);
+        let z = f32x8::ZERO;
+        let mut w = WideConstraint {
+            // Tail lanes point at the first lane's bodies with zero masses: they read, never
+            // write, and apply no impulse.
+            body_a: [src[0].body_a; LANES],
+            body_b: [src[0].body_b; LANES],
+            dynamic_a: 0,
+            dynamic_b: 0,
+            lanes: src.len() as u8,
+            any_friction: false,
+            any_restitution: false,
+            inv_mass_a: z,
+            inv_i_a: z,
+            inv_mass_b: z,
+            inv_i_b: z,
+            normal_x: z,
+            normal_y: z,
+            friction: z,
+            restitution: z,
+            bias_rate: z,
+            mass_scale: z,
+            impulse_scale: z,
+            points: [WidePoint::ZERO; 2],
+        };
+        for (l, c) in src.iter().enumerate() {
+            w.body_a[l] = c.body_a;
+            w.body_b[l] = c.body_b;
+            w.dynamic_a |= u8::from(c.dynamic_a) << l;
+            w.dynamic_b |= u8::from(c.dynamic_b) << l;
+            w.any_friction |= c.friction > 0.0;
+            w.any_restitution |= c.restitution > 0.0;
+            w.inv_mass_a.as_mut_array()[l] = c.inv_mass_a;
+            w.inv_i_a.as_mut_array()[l] = c.inv_i_a;
+            w.inv_mass_b.as_mut_array()[l] = c.inv_mass_b;
+            w.inv_i_b.as_mut_array()[l] = c.inv_i_b;
+            w.normal_x.as_mut_array()[l] = c.normal.x;
+            w.normal_y.as_mut_array()[l] = c.normal.y;
+            w.friction.as_mut_array()[l] = c.friction;
+            w.restitution.as_mut_array()[l] = c.restitution;
+            w.bias_rate.as_mut_array()[l] = c.softness.bias_rate;
+            w.mass_scale.as_mut_array()[l] = c.softness.mass_scale;
+            w.impulse_scale.as_mut_array()[l] = c.softness.impulse_scale;
+            for k in 0..c.count {
+                w.points[k].set_lane(l, &c.points[k]);
+            }
+        }
+        w
+    }
+
+    /// Copies the accumulated impulses back into the scalar constraints they came from.
+    pub fn unpack_impulses(&self, dst: &mut [ContactConstraint]) {
+        for (k, wp) in self.points.iter().enumerate() {
+            let n = wp.normal_impulse.to_array();
+            let t = wp.tangent_impulse.to_array();
+            let total = wp.total_normal_impulse.to_array();
+            for (l, c) in dst.iter_mut().enumerate().take(self.lanes as usize) {
+                if k < c.count {
+                    let p = &mut c.points[k];
+                    p.normal_impulse = n[l];
+                    p.tangent_impulse = t[l];
+                    p.total_normal_impulse = total[l];
+                }
+            }
+        }
+    }
+}
+
+/// Eight bodies' states, one per lane.
+struct WideBody {
+    vx: f32x8,
+    vy: f32x8,
+    w: f32x8,
+    dpx: f32x8,
+    dpy: f32x8,
+    dqc: f32x8,
+    dqs: f32x8,
+}
+
+#[inline(always)]
+fn gather(states: &BodyStates<'_>, index: &[u32; LANES]) -> WideBody {
+    let mut f = [[0.0f32; LANES]; 7];
+    for l in 0..LANES {
+        let s = states.get(index[l] as usize);
+        f[0][l] = s.v.x;
+        f[1][l] = s.v.y;
+        f[2][l] = s.w;
+        f[3][l] = s.dp.x;
+        f[4][l] = s.dp.y;
+        f[5][l] = s.dq.c;
+        f[6][l] = s.dq.s;
+    }
+    WideBody {
+        vx: f32x8::from(f[0]),
+        vy: f32x8::from(f[1]),
+        w: f32x8::from(f[2]),
+        dpx: f32x8::from(f[3]),
+        dpy: f32x8::from(f[4]),
+        dqc: f32x8::from(f[5]),
+        dqs: f32x8::from(f[6]),
+    }
+}
+
+#[inline(always)]
+fn scatter(states: &BodyStates<'_>, index: &[u32; LANES], dynamic: u8, b: &WideBody) {
+    if dynamic == 0 {
+        return;
+    }
+    let (vx, vy, w) = (b.vx.to_array(), b.vy.to_array(), b.w.to_array());
+    for l in 0..LANES {
+        if dynamic & (1 << l) != 0 {
+            states.set_velocity(index[l] as usize, Vec2::new(vx[l], vy[l]), w[l]);
+        }
+    }
+}
+
+/// Inverse masses and inertias of both sides.
+#[derive(Clone, Copy)]
+struct Masses {
+    ma: f32x8,
+    ia: f32x8,
+    mb: f32x8,
+    ib: f32x8,
+}
+
+impl WideConstraint {
+    #[inline(always)]
+    fn masses(&self) -> Masses {
+        Masses {
+            ma: self.inv_mass_a,
+            ia: self.inv_i_a,
+            mb: self.inv_mass_b,
+            ib: self.inv_i_b,
+        }
+    }
+}
+
+/// Applies an impulse `(px, py)` at anchors `ra`, `rb` to both bodies.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn apply(
+    m: Masses,
+    a: &mut WideBody,
+    b: &mut WideBody,
+    rax: f32x8,
+    ray: f32x8,
+    rbx: f32x8,
+    rby: f32x8,
+    px: f32x8,
+    py: f32x8,
+) {
+    a.vx -= m.ma * px;
+    a.vy -= m.ma * py;
+    a.w -= m.ia * (rax * py - ray * px);
+    b.vx += m.mb * px;
+    b.vy += m.mb * py;
+    b.w += m.ib * (rbx * py - rby * px);
+}
+
+/// Relative velocity of B's anchor with respect to A's: `(vB + wB × rB) − (vA + wA × rA)`.
+#[inline(always)]
+fn relative_velocity(
+    a: &WideBody,
+    b: &WideBody,
+    rax: f32x8,
+    ray: f32x8,
+    rbx: f32x8,
+    rby: f32x8,
+) -> (f32x8, f32x8) {
+    let dvx = (b.vx - b.w * rby) - (a.vx - a.w * ray);
+    let dvy = (b.vy + b.w * rbx) - (a.vy + a.w * rax);
+    (dvx, dvy)
+}
+
+/// Warm start: apply the accumulated impulses again.
+pub fn warm_start(constraints: &[WideConstraint], states: &BodyStates<'_>) {
+    for c in constraints {
+        let mut a = gather(states, &c.body_a);
+        let mut b = gather(states, &c.body_b);
+        let m = c.masses();
+        let (nx, ny) = (c.normal_x, c.normal_y);
+        for p in &c.points {
+            // P = λn·n + λt·t with t = (ny, −nx).
+            let px = p.normal_impulse * nx + p.tangent_impulse * ny;
+            let py = p.normal_impulse * ny - p.tangent_impulse * nx;
+            apply(
+                m,
+                &mut a,
+                &mut b,
+                p.anchor_ax,
+                p.anchor_ay,
+                p.anchor_bx,
+                p.anchor_by,
+                px,
+                py,
+            );
+        }
+        scatter(states, &c.body_a, c.dynamic_a, &a);
+        scatter(states, &c.body_b, c.dynamic_b, &b);
+    }
+}
+
+/// One solve (`use_bias`) or relax pass; relax also solves friction.
+pub fn solve(
+    constraints: &mut [WideConstraint],
+    states: &BodyStates<'_>,
+    inv_h: f32,
+    use_bias: bool,
+    max_push: f32,
+) {
+    let inv_h = f32x8::splat(inv_h);
+    let neg_push = f32x8::splat(-max_push);
+    let zero = f32x8::ZERO;
+    let one = f32x8::ONE;
+    for c in constraints {
+        let mut a = gather(states, &c.body_a);
+        let mut b = gather(states, &c.body_b);
+        let m = c.masses();
+        let (nx, ny) = (c.normal_x, c.normal_y);
+        let dpx = b.dpx - a.dpx;
+        let dpy = b.dpy - a.dpy;
+        for p in &mut c.points {
+            let (rax, ray, rbx, rby) = (p.anchor_ax, p.anchor_ay, p.anchor_bx, p.anchor_by);
+            // Current separation from the substep deltas (rotated anchors), normal fixed.
+            let prax = a.dqc * rax - a.dqs * ray;
+            let pray = a.dqs * rax + a.dqc * ray;
+            let prbx = b.dqc * rbx - b.dqs * rby;
+            let prby = b.dqs * rbx + b.dqc * rby;
+            let dx = dpx + (prbx - prax);
+            let dy = dpy + (prby - pray);
+            let s = (dx * nx + dy * ny) + p.base_separation;
+            let speculative = s.simd_gt(zero);
+            let (bias, mass_scale, impulse_scale) = if use_bias {
+                let soft = (c.mass_scale * c.bias_rate * s).fast_max(neg_push);
+                (
+                    speculative.select(s * inv_h, soft),
+                    speculative.select(one, c.mass_scale),
+                    speculative.select(zero, c.impulse_scale),
+                )
+            } else {
+                (speculative.select(s * inv_h, zero), one, zero)
+            };
+            let (dvx, dvy) = relative_velocity(&a, &b, rax, ray, rbx, rby);
+            let vn = dvx * nx + dvy * ny;
+            let impulse =
+                -p.normal_mass * (mass_scale * vn + bias) - impulse_scale * p.normal_impulse;
+            let new_impulse = (p.normal_impulse + impulse).fast_max(zero);
+            let applied = new_impulse - p.normal_impulse;
+            p.normal_impulse = new_impulse;
+            p.total_normal_impulse = p.total_normal_impulse.fast_max(new_impulse);
+            apply(
+                m,
+                &mut a,
+                &mut b,
+                rax,
+                ray,
+                rbx,
+                rby,
+                applied * nx,
+                applied * ny,
+            );
+        }
+        if !use_bias && c.any_friction {
+            let (tx, ty) = (ny, -nx);
+            for p in &mut c.points {
+                let (rax, ray, rbx, rby) = (p.anchor_ax, p.anchor_ay, p.anchor_bx, p.anchor_by);
+                let (dvx, dvy) = relative_velocity(&a, &b, rax, ray, rbx, rby);
+                let vt = dvx * tx + dvy * ty;
+                let impulse = -p.tangent_mass * vt;
+                let max_friction = c.friction * p.normal_impulse;
+                let new_impulse = (p.tangent_impulse + impulse)
+                    .fast_min(max_friction)
+                    .fast_max(-max_friction);
+                let applied = new_impulse - p.tangent_impulse;
+                p.tangent_impulse = new_impulse;
+                apply(
+                    m,
+                    &mut a,
+                    &mut b,
+                    rax,
+                    ray,
+                    rbx,
+                    rby,
+                    applied * tx,
+                    applied * ty,
+                );
+            }
+        }
+        scatter(states, &c.body_a, c.dynamic_a, &a);
+        scatter(states, &c.body_b, c.dynamic_b, &b);
+    }
+}
+
+/// Restitution once per step; wide constraints with no bouncing lane are skipped whole.
+pub fn apply_restitution(
+    constraints: &mut [WideConstraint],
+    states: &BodyStates<'_>,
+    threshold: f32,
+) {
+    let neg_threshold = f32x8::splat(-threshold);
+    let zero = f32x8::ZERO;
+    for c in constraints {
+        if !c.any_restitution {
+            continue;
+        }
+        let mut a = gather(states, &c.body_a);
+        let mut b = gather(states, &c.body_b);
+        let m = c.masses();
+        let (nx, ny) = (c.normal_x, c.normal_y);
+        for p in &mut c.points {
+            // Lanes that approached slower than the threshold, or never pushed, are left alone.
+            let active = neg_threshold.simd_gt(p.relative_velocity)
+                & p.total_normal_impulse.simd_gt(zero)
+                & c.restitution.simd_gt(zero);
+            if active.to_bitmask() == 0 {
+                continue;
+            }
+            let (rax, ray, rbx, rby) = (p.anchor_ax, p.anchor_ay, p.anchor_bx, p.anchor_by);
+            let (dvx, dvy) = relative_velocity(&a, &b, rax, ray, rbx, rby);
+            let vn = dvx * nx + dvy * ny;
+            let impulse = -p.normal_mass * (vn + c.restitution * p.relative_velocity);
+            let new_impulse = active.select(
+                (p.normal_impulse + impulse).fast_max(zero),
+                p.normal_impulse,
+            );
+            let applied = new_impulse - p.normal_impulse;
+            p.normal_impulse = new_impulse;
+            p.total_normal_impulse = p.total_normal_impulse.fast_max(new_impulse);
+            apply(
+                m,
+                &mut a,
+                &mut b,
+                rax,
+                ray,
+                rbx,
+                rby,
+                applied * nx,
+                applied * ny,
+            );
+        }
+        scatter(states, &c.body_a, c.dynamic_a, &a);
+        scatter(states, &c.body_b, c.dynamic_b, &b);
+    }
+}
