@@ -27,7 +27,18 @@ fn main() {
             let p = w.profile();
             println!(
                 "step {s}: max v {:.4} (body {}) max disp {:.3} (body {}) contacts {} touching {} recycled {} moved {} colors {} overflow {} ms {:.2} bp {:.3}",
-                maxv.0, maxv.1, maxd.0, maxd.1, p.contacts, p.touching, p.recycled, p.moved, p.colors, p.overflow, p.step_ms, p.broad_phase_ms
+                maxv.0,
+                maxv.1,
+                maxd.0,
+                maxd.1,
+                p.contacts,
+                p.touching,
+                p.recycled,
+                p.moved,
+                p.colors,
+                p.overflow,
+                p.step_ms,
+                p.broad_phase_ms
             );
         }
     }

@@ -1,0 +1,140 @@
+//! A scene in Box2D v3 through boxdd.
+//!
+//! Mapping: each tumble body is one Box2D body with one shape. Boxes are `b2MakeBox` polygons
+//! (radius 0), other polygons are the hull of tumble's centroid-recentred vertices, circles are
+//! centred circles. Friction and restitution go on each shape's material; Box2D mixes them as
+//! tumble does (friction `sqrt(a * b)`, restitution `max(a, b)`). World: tumble's gravity,
+//! contact hertz, damping ratio, push-out speed, restitution threshold and speed cap; sleep off;
+//! continuous collision off (tumble has none); contact events off (tumble produces none);
+//! `threads` workers (Box2D's own scheduler: the caller plus `threads - 1` threads).
+
+use anyhow::{Result, bail};
+use boxdd::{
+    BodyBuilder, BodyId, BodyType, Foundation, MotionLocks, Position, ShapeDef, SurfaceMaterial,
+    Vec2, World, WorkerCount, WorldBuilder,
+};
+use tumble_physics::{BodyKind, SceneDef, Shape, ShapeDef as TumbleShape, StepSettings};
+
+use super::{Peer, ok};
+
+/// A Box2D world holding a tumble scene.
+pub struct Box2d {
+    world: World,
+    ids: Vec<BodyId>,
+    dt: f32,
+    substeps: i32,
+}
+
+/// Box2D's version, e.g. "3.2.0".
+pub fn version() -> String {
+    match boxdd::version() {
+        Ok(v) => format!("{}.{}.{}", v.major, v.minor, v.revision),
+        Err(_) => "unknown".into(),
+    }
+}
+
+impl Box2d {
+    /// Builds the scene; `settings` are the tumble world's (for the numbers Box2D shares).
+    pub fn new(scene: &SceneDef, settings: &StepSettings, threads: usize) -> Result<Box2d> {
+        let f = ok(Foundation::initialize_default(), "Box2D foundation")?;
+        let workers = ok(
+            WorkerCount::new(u32::try_from(threads).unwrap_or(u32::MAX)),
+            "Box2D worker count (1 to 32)",
+        )?;
+        let def = ok(
+            WorldBuilder::from(f.world_def())
+                .gravity(Vec2::new(scene.gravity[0], scene.gravity[1]))
+                .enable_sleep(false)
+                .enable_continuous(false)
+                .contact_hertz(settings.contact_hertz)
+                .contact_damping_ratio(settings.contact_damping_ratio)
+                .contact_speed(settings.max_push_speed)
+                .restitution_threshold(settings.restitution_threshold)
+                .maximum_linear_speed(settings.max_linear_speed)
+                .worker_count(workers)
+                .build(),
+            "Box2D world definition",
+        )?;
+        let mut world = ok(f.create_world(def), "Box2D world")?;
+        let mut ids = Vec::with_capacity(scene.bodies.len());
+        for (i, b) in scene.bodies.iter().enumerate() {
+            let what = format!("Box2D body {i}");
+            let kind = match b.kind {
+                BodyKind::Static => BodyType::Static,
+                BodyKind::Dynamic => BodyType::Dynamic,
+                BodyKind::Kinematic => BodyType::Kinematic,
+            };
+            let body_def = ok(
+                BodyBuilder::from(f.body_def())
+                    .body_type(kind)
+                    .position(Position::new(b.position[0], b.position[1]))
+                    .angle(b.angle)
+                    .linear_velocity(Vec2::new(b.linear_velocity[0], b.linear_velocity[1]))
+                    .angular_velocity(b.angular_velocity)
+                    .linear_damping(b.linear_damping)
+                    .angular_damping(b.angular_damping)
+                    .enable_sleep(false)
+                    .motion_locks(MotionLocks::new(false, false, b.fixed_rotation))
+                    .build(),
+                &what,
+            )?;
+            let id = ok(world.create_body(body_def), &what)?;
+            let material = ok(
+                SurfaceMaterial::default()
+                    .with_friction(b.friction)
+                    .and_then(|m| m.with_restitution(b.restitution)),
+                &what,
+            )?;
+            let shape_def = ok(
+                ShapeDef::builder()
+                    .density(b.density)
+                    .material(material)
+                    .enable_contact_events(false)
+                    .build(),
+                &what,
+            )?;
+            let mut body = ok(world.body(id), &what)?;
+            match (&b.shape, ok(Shape::from_def(&b.shape), &what)?) {
+                (TumbleShape::Box { half_extents }, _) => {
+                    ok(
+                        body.create_box(&shape_def, half_extents[0], half_extents[1]),
+                        &what,
+                    )?;
+                }
+                (_, Shape::Circle(c)) => {
+                    ok(body.create_centered_circle(&shape_def, c.radius), &what)?;
+                }
+                (_, Shape::Polygon(p)) => {
+                    let points: Vec<Vec2> = p.points().iter().map(|v| Vec2::new(v.x, v.y)).collect();
+                    ok(
+                        body.create_polygon_from_points(&shape_def, points, 0.0),
+                        &what,
+                    )?;
+                }
+            }
+            ids.push(id);
+        }
+        if scene.substeps > i32::MAX as u32 {
+            bail!("too many substeps for Box2D");
+        }
+        Ok(Box2d {
+            world,
+            ids,
+            dt: scene.dt,
+            substeps: scene.substeps as i32,
+        })
+    }
+}
+
+impl Peer for Box2d {
+    fn step(&mut self) -> Result<()> {
+        ok(self.world.step(self.dt, self.substeps).map(|_| ()), "Box2D step")
+    }
+
+    fn pose(&mut self, index: usize) -> Result<[f32; 3]> {
+        let body = ok(self.world.body(self.ids[index]), "Box2D body")?;
+        let p = ok(body.position(), "Box2D position")?;
+        let q = ok(body.rotation(), "Box2D rotation")?;
+        Ok([p.x, p.y, q.angle()])
+    }
+}
