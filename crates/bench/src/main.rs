@@ -1,10 +1,21 @@
 //! `tumble-bench`: tumble's headless runner.
 //!
 //! `tumble-bench run SCENE [--steps N] [--threads T] [--substeps S] [--out FILE]` runs a scene
-//! and writes one JSON document (see CONTRACT.md, section 2). Each subcommand lives in its own
-//! module; `main` only parses the command line and turns errors into a message and exit code 2.
+//! and writes one JSON document (see CONTRACT.md, section 2). `tumble-bench sweep` times scenes
+//! against thread and body counts (table, CSV, SVG charts); `tumble-bench compare` (feature
+//! `peers`) times the same scenes in tumble, Box2D v3 and Rapier2D. Each subcommand lives in its
+//! own module; `main` only parses the command line and turns errors into a message and exit
+//! code 2.
 
+mod compare;
+mod machine;
+#[cfg(feature = "peers")]
+mod peers;
+mod plot;
 mod run;
+mod scenes;
+mod sweep;
+mod timing;
 
 use std::process::ExitCode;
 
@@ -22,6 +33,12 @@ struct Cli {
 enum Command {
     /// Run one scene for N steps; write the final state and the step's profile as JSON.
     Run(run::RunArgs),
+    /// Time scenes against thread counts and a generated pile against body counts; print a
+    /// table and write sweep.csv and SVG charts.
+    Sweep(sweep::SweepArgs),
+    /// Time the same scenes in tumble, Box2D v3 and Rapier2D (needs `--features peers`); write
+    /// compare.md and compare.csv.
+    Compare(compare::CompareArgs),
 }
 
 fn main() -> ExitCode {
@@ -40,6 +57,8 @@ fn main() -> ExitCode {
     };
     let result = match cli.command {
         Command::Run(args) => run::run(&args),
+        Command::Sweep(args) => sweep::run(&args),
+        Command::Compare(args) => compare::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

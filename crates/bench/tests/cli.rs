@@ -301,9 +301,9 @@ fn wrong_type() {
     );
     refused_file(
         "type.ron",
-        &one_body("position: [1.0, 2.0], shape: Circle(radius: 1.0)"),
+        &one_body("position: \"here\", shape: Circle(radius: 1.0)"),
         &[],
-        &[":2:", "(x, y)"],
+        &[":2:", "a pair of numbers", "[x, y]"],
     );
 }
 

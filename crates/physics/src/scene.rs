@@ -36,11 +36,13 @@ pub enum ShapeDef {
     /// A rectangle centred on the body.
     Box {
         /// Half width and half height in metres, both > 0.
+        #[serde(deserialize_with = "pair::one")]
         half_extents: [f32; 2],
     },
     /// A convex polygon, counter-clockwise, 3 to 8 vertices, non-zero area.
     Polygon {
         /// Vertices in the body's frame; the loader recentres them on their centroid.
+        #[serde(deserialize_with = "pair::list")]
         vertices: Vec<[f32; 2]>,
     },
 }
@@ -60,13 +62,13 @@ pub struct BodyDef {
     #[serde(default)]
     pub kind: BodyKind,
     /// Centre of mass in the world (m).
-    #[serde(default)]
+    #[serde(default, deserialize_with = "pair::one")]
     pub position: [f32; 2],
     /// Orientation (rad, counter-clockwise).
     #[serde(default)]
     pub angle: f32,
     /// Initial velocity of the centre of mass (m/s).
-    #[serde(default)]
+    #[serde(default, deserialize_with = "pair::one")]
     pub linear_velocity: [f32; 2],
     /// Initial angular velocity (rad/s).
     #[serde(default)]
@@ -186,7 +188,7 @@ pub struct SceneDef {
     #[serde(default)]
     pub name: String,
     /// Gravity (m/s²).
-    #[serde(default = "default_gravity")]
+    #[serde(default = "default_gravity", deserialize_with = "pair::one")]
     pub gravity: [f32; 2],
     /// Seconds per step, > 0.
     #[serde(default = "default_dt")]
@@ -276,6 +278,76 @@ impl Default for Limits {
             max_bodies: 200_000,
             max_substeps: 256,
         }
+    }
+}
+
+/// `[x, y]` pairs read from either a list or a tuple, so RON files may write `(x, y)` (how
+/// serde names a fixed array) or `[x, y]` (how the contract writes it); JSON has lists only.
+mod pair {
+    use serde::de::{Deserializer, Error, SeqAccess, Visitor};
+    use std::fmt;
+
+    struct PairVisitor;
+
+    impl<'de> Visitor<'de> for PairVisitor {
+        type Value = [f32; 2];
+
+        fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+            f.write_str("a pair of numbers, written [x, y] (or (x, y) in RON)")
+        }
+
+        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<[f32; 2], A::Error> {
+            let x = seq
+                .next_element::<f32>()?
+                .ok_or_else(|| A::Error::invalid_length(0, &self))?;
+            let y = seq
+                .next_element::<f32>()?
+                .ok_or_else(|| A::Error::invalid_length(1, &self))?;
+            if seq.next_element::<serde::de::IgnoredAny>()?.is_some() {
+                return Err(A::Error::invalid_length(3, &self));
+            }
+            Ok([x, y])
+        }
+    }
+
+    /// One pair.
+    pub fn one<'de, D: Deserializer<'de>>(d: D) -> Result<[f32; 2], D::Error> {
+        d.deserialize_any(PairVisitor)
+    }
+
+    struct Pair([f32; 2]);
+
+    impl<'de> serde::Deserialize<'de> for Pair {
+        fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Pair, D::Error> {
+            one(d).map(Pair)
+        }
+    }
+
+    struct ListVisitor;
+
+    impl<'de> Visitor<'de> for ListVisitor {
+        type Value = Vec<[f32; 2]>;
+
+        fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+            f.write_str("a list of [x, y] pairs")
+        }
+
+        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
+            let mut out = Vec::new();
+            while let Some(Pair(p)) = seq.next_element::<Pair>()? {
+                // Polygons have at most 8 vertices; stop early on absurd input.
+                if out.len() > 1024 {
+                    return Err(A::Error::custom("more than 1024 vertices"));
+                }
+                out.push(p);
+            }
+            Ok(out)
+        }
+    }
+
+    /// A list of pairs.
+    pub fn list<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<[f32; 2]>, D::Error> {
+        d.deserialize_seq(ListVisitor)
     }
 }
 

@@ -398,7 +398,7 @@ fn ron_hint(code: &ron::Error) -> String {
             format!("give `{field}` only once")
         }
         E::ExpectedStructLike | E::ExpectedArray => format!(
-            "in RON, pairs such as `position`, `gravity` and `half_extents` are written `(x, y)`, lists such as `bodies` and `vertices` `[a, b, ...]`, a scene or body `( field: value, ... )`, a shape `Circle(radius: 0.5)`; {SCHEMA_HINT}"
+            "in RON, pairs such as `position`, `gravity` and `half_extents` are written `(x, y)` or `[x, y]`, lists such as `bodies` and `vertices` `[a, b, ...]`, a scene or body `( field: value, ... )`, a shape `Circle(radius: 0.5)`; {SCHEMA_HINT}"
         ),
         E::ExceededRecursionLimit => {
             "the input nests too deeply; a scene is at most a few levels deep".to_string()
@@ -1032,5 +1032,39 @@ mod tests {
                 let _ = parse(&bytes, format, "fuzz", &LoadLimits::default());
             }
         }
+    }
+
+    #[test]
+    fn ron_pairs_read_as_tuples_or_lists() {
+        let tuple = "(gravity: (0, -9.8), bodies: [(shape: Box(half_extents: (0.5, 0.25)), position: (1, 2))])";
+        let list = "(gravity: [0, -9.8], bodies: [(shape: Box(half_extents: [0.5, 0.25]), position: [1, 2])])";
+        let a = parse(
+            tuple.as_bytes(),
+            Format::Ron,
+            "t.ron",
+            &LoadLimits::default(),
+        )
+        .unwrap();
+        let b = parse(
+            list.as_bytes(),
+            Format::Ron,
+            "l.ron",
+            &LoadLimits::default(),
+        )
+        .unwrap();
+        assert_eq!(a.gravity, [0.0, -9.8]);
+        assert_eq!(a.bodies, b.bodies);
+        assert_eq!(a.bodies[0].position, [1.0, 2.0]);
+        let mixed = "(bodies: [(shape: Polygon(vertices: [(0, 0), [1, 0], (0, 1)]))])";
+        let m = parse(
+            mixed.as_bytes(),
+            Format::Ron,
+            "m.ron",
+            &LoadLimits::default(),
+        )
+        .unwrap();
+        assert!(
+            matches!(&m.bodies[0].shape, tumble_physics::ShapeDef::Polygon { vertices } if vertices.len() == 3)
+        );
     }
 }

@@ -1,0 +1,678 @@
+//! `tumble-bench compare`: the same scenes in tumble, Box2D v3 (boxdd) and Rapier2D, one engine
+//! after another in this process, each engine's step timed alone. Needs the `peers` feature.
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use clap::Args;
+
+/// Default scenes: Box2D's own benchmark scenes that tumble builds the same way.
+const DEFAULT_SCENES: &str = "large_pyramid,many_pyramids,smash";
+
+/// Arguments of `tumble-bench compare`.
+#[derive(Debug, Args)]
+pub struct CompareArgs {
+    /// Scenes: built-in names, scene files, or `pile_N`.
+    #[arg(long, value_name = "A,B,..", value_delimiter = ',', default_value = DEFAULT_SCENES)]
+    pub scenes: Vec<String>,
+    /// Thread counts, each engine given the same [default: 1 and the number of cores].
+    #[arg(
+        long,
+        value_name = "T,T,..",
+        value_delimiter = ',',
+        value_parser = clap::value_parser!(u32).range(1..=32)
+    )]
+    pub threads: Option<Vec<u32>>,
+    /// Runs of each engine, scene and thread count, each on a fresh world; the report gives the
+    /// minimum and the median of the runs' mean ms per step.
+    #[arg(long, value_name = "R", default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..))]
+    pub repeats: u32,
+    /// Steps per run, all timed from the first [default: each scene's own `steps`].
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    pub steps: Option<u32>,
+    /// Steps of the 20-row `pyramid` cross-check (0 skips it).
+    #[arg(long, value_name = "N", default_value_t = 600)]
+    pub check_steps: u32,
+    /// Where compare.md, compare.csv, compare_runs.csv and the charts go (created if missing).
+    #[arg(long, value_name = "DIR", default_value = "docs/bench")]
+    pub out_dir: PathBuf,
+}
+
+/// Runs the comparison.
+pub fn run(args: &CompareArgs) -> Result<()> {
+    #[cfg(feature = "peers")]
+    {
+        imp::run(args)
+    }
+    #[cfg(not(feature = "peers"))]
+    {
+        let _ = args;
+        anyhow::bail!(
+            "this tumble-bench was built without the `peers` feature, so it has no Box2D or Rapier \
+             to compare with; rebuild with `--features peers`, e.g. \
+             CFLAGS=\"-O3 -DNDEBUG\" cargo run --release -p tumble-bench --features peers -- compare \
+             (see docs/bench/README.md)"
+        )
+    }
+}
+
+#[cfg(feature = "peers")]
+mod imp {
+    use std::fmt::Write as _;
+    use std::path::{Path, PathBuf};
+    use std::time::Instant;
+
+    use anyhow::{Context, Result, bail};
+    use indicatif::{ProgressBar, ProgressStyle};
+    use tumble_physics::{SceneDef, StepSettings, World};
+
+    use super::CompareArgs;
+    use crate::machine;
+    use crate::peers::box2d::{self, Box2d};
+    use crate::peers::rapier::{self, Rapier};
+    use crate::peers::Peer;
+    use crate::plot::{self, Chart, Series};
+    use crate::scenes;
+    use crate::sweep::csv_field;
+    use crate::timing::{median, min};
+
+    /// The engines, in the order each configuration runs them.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+    enum Engine {
+        Tumble,
+        Box2d,
+        Rapier,
+    }
+
+    const ENGINES: [Engine; 3] = [Engine::Tumble, Engine::Box2d, Engine::Rapier];
+
+    impl Engine {
+        fn key(self) -> &'static str {
+            match self {
+                Engine::Tumble => "tumble",
+                Engine::Box2d => "box2d",
+                Engine::Rapier => "rapier",
+            }
+        }
+        fn title(self) -> &'static str {
+            match self {
+                Engine::Tumble => "tumble",
+                Engine::Box2d => "Box2D",
+                Engine::Rapier => "Rapier",
+            }
+        }
+    }
+
+    /// One run's result.
+    struct Measure {
+        scene: String,
+        bodies: usize,
+        threads: usize,
+        engine: Engine,
+        repeat: u32,
+        steps: u32,
+        ms: f64,
+    }
+
+    /// The tumble settings of a scene (what the peers are told where they have the knob).
+    fn settings_of(scene: &SceneDef) -> Result<StepSettings> {
+        // A world of the settings only: `from_scene` fills in gravity and keeps the defaults.
+        let mut empty = scene.clone();
+        empty.bodies.clear();
+        Ok(*World::from_scene(&empty, &scenes::limits())?.settings())
+    }
+
+    fn build(
+        engine: Engine,
+        scene: &SceneDef,
+        settings: &StepSettings,
+        threads: usize,
+    ) -> Result<Box<dyn Peer>> {
+        Ok(match engine {
+            Engine::Tumble => Box::new(TumblePeer::new(scene, threads)?),
+            Engine::Box2d => Box::new(Box2d::new(scene, settings, threads)?),
+            Engine::Rapier => Box::new(Rapier::new(scene, threads)?),
+        })
+    }
+
+    /// tumble behind the same trait, so every engine is timed by the same loop.
+    struct TumblePeer {
+        world: World,
+        dt: f32,
+        substeps: u32,
+    }
+
+    impl TumblePeer {
+        fn new(scene: &SceneDef, threads: usize) -> Result<TumblePeer> {
+            let mut world = World::from_scene(scene, &scenes::limits())
+                .with_context(|| format!("{}: cannot build the tumble world", scene.name))?;
+            world.set_thread_count(threads);
+            Ok(TumblePeer {
+                world,
+                dt: scene.dt,
+                substeps: scene.substeps,
+            })
+        }
+    }
+
+    impl Peer for TumblePeer {
+        fn step(&mut self) -> Result<()> {
+            self.world.step(self.dt, self.substeps);
+            Ok(())
+        }
+        fn pose(&mut self, index: usize) -> Result<[f32; 3]> {
+            let b = self.world.body(index);
+            Ok([b.position.x, b.position.y, b.angle])
+        }
+    }
+
+    /// Mean wall ms of `peer.step()` over `steps` steps; nothing else is inside the clock.
+    fn time_steps(peer: &mut dyn Peer, steps: u32) -> Result<f64> {
+        let mut total = 0.0;
+        for _ in 0..steps {
+            let t = Instant::now();
+            peer.step()?;
+            total += t.elapsed().as_secs_f64();
+        }
+        Ok(total * 1e3 / f64::from(steps.max(1)))
+    }
+
+    /// What the build and the machine may spoil, said before the numbers.
+    fn build_warnings() -> Result<Vec<String>> {
+        let mut warnings = Vec::new();
+        if !machine::optimised() {
+            warnings.push(
+                "this is a debug build: its timings say nothing about any engine; use --release"
+                    .to_string(),
+            );
+        }
+        let cflags = machine::build_cflags();
+        let has = |flag: &str| cflags.split_whitespace().any(|f| f == flag);
+        if !(has("-O3") && has("-DNDEBUG")) {
+            warnings.push(format!(
+                "Box2D's C code was built with CFLAGS={cflags:?}, not \"-O3 -DNDEBUG\": boxdd then \
+                 compiles it at -O2 with Box2D's asserts on (about 9% slower than Box2D's Release \
+                 build); rebuild as docs/bench/README.md says"
+            ));
+        }
+        let avx2_cpu = machine::cpu_has_avx2();
+        let avx2_build = cfg!(feature = "simd-avx2");
+        if avx2_build && !avx2_cpu {
+            bail!(
+                "built with the simd-avx2 feature but this CPU has no AVX2: Box2D would crash; \
+                 rebuild with `--features peers` only"
+            );
+        }
+        if avx2_cpu && !avx2_build {
+            warnings.push(
+                "the CPU has AVX2 but Box2D was built without it (its default SSE2 path); rebuild \
+                 with `--features peers,simd-avx2`"
+                    .to_string(),
+            );
+        }
+        Ok(warnings)
+    }
+
+    pub fn run(args: &CompareArgs) -> Result<()> {
+        let warnings = build_warnings()?;
+        for w in &warnings {
+            eprintln!("warning: {w}");
+        }
+        let threads: Vec<usize> = match &args.threads {
+            Some(t) => t.iter().map(|&t| t as usize).collect(),
+            None => {
+                let mut t = vec![1, machine::cores().min(32)];
+                t.dedup();
+                t
+            }
+        };
+        let mut list = Vec::new();
+        for name in &args.scenes {
+            let scene = scenes::resolve(name)?;
+            let settings = settings_of(&scene)?;
+            let steps = args.steps.unwrap_or(scene.steps).max(1);
+            list.push((scene, settings, steps));
+        }
+        if list.is_empty() {
+            bail!("no scenes given");
+        }
+        std::fs::create_dir_all(&args.out_dir)
+            .with_context(|| format!("cannot create {}", args.out_dir.display()))?;
+
+        eprintln!(
+            "compare: {} scenes x threads {:?} x {} repeats x 3 engines; every step of a run is \
+             timed (no warm-up), world building is not",
+            list.len(),
+            threads,
+            args.repeats
+        );
+        let total = list.len() * threads.len() * args.repeats as usize * ENGINES.len();
+        let bar = ProgressBar::new(total as u64);
+        bar.set_style(
+            ProgressStyle::with_template(
+                "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} (eta {eta}) {msg}",
+            )
+            .expect("a valid progress template"),
+        );
+        let mut measures = Vec::new();
+        for repeat in 0..args.repeats {
+            for (scene, settings, steps) in &list {
+                for &t in &threads {
+                    for engine in ENGINES {
+                        bar.set_message(format!(
+                            "{} {} t={t} #{}",
+                            engine.title(),
+                            scene.name,
+                            repeat + 1
+                        ));
+                        let mut peer = build(engine, scene, settings, t)?;
+                        let ms = time_steps(peer.as_mut(), *steps)?;
+                        drop(peer);
+                        measures.push(Measure {
+                            scene: scene.name.clone(),
+                            bodies: scene.bodies.len(),
+                            threads: t,
+                            engine,
+                            repeat,
+                            steps: *steps,
+                            ms,
+                        });
+                        bar.inc(1);
+                    }
+                }
+            }
+        }
+        bar.finish_and_clear();
+
+        let check = if args.check_steps > 0 {
+            Some(cross_check(args.check_steps)?)
+        } else {
+            None
+        };
+
+        let summary = summarise(&measures, &list, &threads);
+        print!("{}", text_table(&summary, args.repeats));
+        if let Some(c) = &check {
+            print!("{}", c.text());
+        }
+        let mut written = Vec::new();
+        let md = args.out_dir.join("compare.md");
+        write(&md, &markdown(&summary, check.as_ref(), &warnings, args, &threads))?;
+        written.push(md);
+        let csv = args.out_dir.join("compare.csv");
+        write(&csv, &summary_csv(&summary, args.repeats))?;
+        written.push(csv);
+        let runs = args.out_dir.join("compare_runs.csv");
+        write(&runs, &runs_csv(&measures))?;
+        written.push(runs);
+        if threads.len() > 1 {
+            written.extend(charts(&args.out_dir, &summary)?);
+        }
+        for p in &written {
+            println!("wrote {}", p.display());
+        }
+        Ok(())
+    }
+
+    fn write(path: &Path, text: &str) -> Result<()> {
+        std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))
+    }
+
+    /// One scene and thread count: each engine's minimum and median ms per step.
+    struct Line {
+        scene: String,
+        bodies: usize,
+        threads: usize,
+        steps: u32,
+        /// (min, median) per engine, in `ENGINES` order.
+        ms: [(f64, f64); 3],
+    }
+
+    impl Line {
+        /// tumble's median over the peer's median.
+        fn ratio(&self, peer: usize) -> f64 {
+            self.ms[0].1 / self.ms[peer].1
+        }
+    }
+
+    fn summarise(
+        measures: &[Measure],
+        list: &[(SceneDef, StepSettings, u32)],
+        threads: &[usize],
+    ) -> Vec<Line> {
+        let mut out = Vec::new();
+        for (scene, _, steps) in list {
+            for &t in threads {
+                let ms = ENGINES.map(|engine| {
+                    let v: Vec<f64> = measures
+                        .iter()
+                        .filter(|m| m.scene == scene.name && m.threads == t && m.engine == engine)
+                        .map(|m| m.ms)
+                        .collect();
+                    (min(&v), median(&v))
+                });
+                out.push(Line {
+                    scene: scene.name.clone(),
+                    bodies: scene.bodies.len(),
+                    threads: t,
+                    steps: *steps,
+                    ms,
+                });
+            }
+        }
+        out
+    }
+
+    fn text_table(lines: &[Line], repeats: u32) -> String {
+        let mut out = String::new();
+        let _ = writeln!(
+            out,
+            "\nms per step, min / median of {repeats} runs (every step timed); ratio = tumble median / peer median"
+        );
+        let header = format!(
+            "{:<16} {:>6} {:>3} {:>5} {:>17} {:>17} {:>17} {:>12} {:>13}",
+            "scene",
+            "bodies",
+            "thr",
+            "steps",
+            "tumble",
+            "Box2D",
+            "Rapier",
+            "tumble/Box2D",
+            "tumble/Rapier"
+        );
+        let _ = writeln!(out, "{header}");
+        let _ = writeln!(out, "{}", "-".repeat(header.len()));
+        for l in lines {
+            let cell = |(lo, med): (f64, f64)| format!("{lo:.3} / {med:.3}");
+            let _ = writeln!(
+                out,
+                "{:<16} {:>6} {:>3} {:>5} {:>17} {:>17} {:>17} {:>12.2} {:>13.2}",
+                l.scene,
+                l.bodies,
+                l.threads,
+                l.steps,
+                cell(l.ms[0]),
+                cell(l.ms[1]),
+                cell(l.ms[2]),
+                l.ratio(1),
+                l.ratio(2)
+            );
+        }
+        out
+    }
+
+    fn summary_csv(lines: &[Line], repeats: u32) -> String {
+        let mut out = String::from(
+            "scene,bodies,threads,steps,repeats,tumble_min_ms,tumble_median_ms,box2d_min_ms,\
+             box2d_median_ms,rapier_min_ms,rapier_median_ms,tumble_over_box2d,tumble_over_rapier\n",
+        );
+        for l in lines {
+            let _ = writeln!(
+                out,
+                "{},{},{},{},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.4},{:.4}",
+                csv_field(&l.scene),
+                l.bodies,
+                l.threads,
+                l.steps,
+                repeats,
+                l.ms[0].0,
+                l.ms[0].1,
+                l.ms[1].0,
+                l.ms[1].1,
+                l.ms[2].0,
+                l.ms[2].1,
+                l.ratio(1),
+                l.ratio(2)
+            );
+        }
+        out
+    }
+
+    fn runs_csv(measures: &[Measure]) -> String {
+        let mut out = String::from("scene,bodies,threads,engine,repeat,steps,ms_per_step\n");
+        for m in measures {
+            let _ = writeln!(
+                out,
+                "{},{},{},{},{},{},{:.6}",
+                csv_field(&m.scene),
+                m.bodies,
+                m.threads,
+                m.engine.key(),
+                m.repeat + 1,
+                m.steps,
+                m.ms
+            );
+        }
+        out
+    }
+
+    fn charts(dir: &Path, lines: &[Line]) -> Result<Vec<PathBuf>> {
+        let mut written = Vec::new();
+        let mut names: Vec<&str> = Vec::new();
+        for l in lines {
+            if !names.contains(&l.scene.as_str()) {
+                names.push(&l.scene);
+            }
+        }
+        for name in names {
+            let of: Vec<&Line> = lines.iter().filter(|l| l.scene == name).collect();
+            let series: Vec<Series> = ENGINES
+                .iter()
+                .enumerate()
+                .map(|(i, e)| Series {
+                    label: e.title().to_string(),
+                    points: of.iter().map(|l| (l.threads as f64, l.ms[i].1)).collect(),
+                    bold: i == 0,
+                })
+                .collect();
+            let slug: String = name
+                .chars()
+                .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+                .collect();
+            let path = dir.join(format!("compare_{slug}.svg"));
+            let title = format!("{name} ({} bodies): ms per step against threads", of[0].bodies);
+            plot::linear(
+                &path,
+                &Chart {
+                    title: &title,
+                    x_label: "worker threads",
+                    y_label: "ms per step (median of runs)",
+                    series: &series,
+                },
+            )?;
+            written.push(path);
+        }
+        Ok(written)
+    }
+
+    /// The top box of the 20-row `pyramid` after N steps in each engine, at 1 thread.
+    struct Check {
+        steps: u32,
+        rows: usize,
+        start: [f32; 3],
+        /// (x, y, angle) per engine, in `ENGINES` order.
+        poses: Vec<[f32; 3]>,
+    }
+
+    impl Check {
+        fn text(&self) -> String {
+            let mut out = format!(
+                "\ncross-check: pyramid ({} rows), top box after {} steps (starts at x {:.4}, y {:.4}):\n",
+                self.rows, self.steps, self.start[0], self.start[1]
+            );
+            for (e, p) in ENGINES.iter().zip(&self.poses) {
+                let _ = writeln!(
+                    out,
+                    "  {:<7} x {:>9.5}  y {:>9.5}  angle {:>10.6}",
+                    e.title(),
+                    p[0],
+                    p[1],
+                    p[2]
+                );
+            }
+            out
+        }
+    }
+
+    fn cross_check(steps: u32) -> Result<Check> {
+        let scene = scenes::resolve("pyramid")?;
+        let settings = settings_of(&scene)?;
+        let top = scene.bodies.len() - 1;
+        let b = &scene.bodies[top];
+        let start = [b.position[0], b.position[1], b.angle];
+        // Rows: the dynamic bodies form a triangle of n(n+1)/2 boxes.
+        let dynamic = scene.bodies.len() - 1;
+        let rows = ((((8 * dynamic + 1) as f64).sqrt() - 1.0) / 2.0).round() as usize;
+        let mut poses = Vec::new();
+        for engine in ENGINES {
+            let mut peer = build(engine, &scene, &settings, 1)?;
+            for _ in 0..steps {
+                peer.step()?;
+            }
+            poses.push(peer.pose(top)?);
+        }
+        Ok(Check {
+            steps,
+            rows,
+            start,
+            poses,
+        })
+    }
+
+    fn markdown(
+        lines: &[Line],
+        check: Option<&Check>,
+        warnings: &[String],
+        args: &CompareArgs,
+        threads: &[usize],
+    ) -> String {
+        let mut md = String::new();
+        let _ = writeln!(md, "# tumble against Box2D v3 and Rapier2D\n");
+        let _ = writeln!(
+            md,
+            "Written by `tumble-bench compare`. Each engine builds the same scene from the same \
+             `SceneDef` (every body, shape, density, friction, restitution, velocity, damping, \
+             gravity, dt and substeps) and runs one after another in one process; only each \
+             engine's step call is inside the clock (world building is not). A run times every \
+             step from the first; the table gives the minimum and the median, over {} runs, of a \
+             run's mean ms per step. Ratio = tumble's median ÷ the peer's median (below 1: tumble \
+             is faster).\n",
+            args.repeats
+        );
+        let _ = writeln!(md, "| | |\n|---|---|");
+        let _ = writeln!(md, "| CPU | {} |", machine::cpu_model());
+        let _ = writeln!(
+            md,
+            "| cores | {} (thread counts run: {}) |",
+            machine::cores(),
+            threads
+                .iter()
+                .map(|t| t.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+        let _ = writeln!(md, "| tumble revision | `{}` |", machine::git_revision());
+        let _ = writeln!(md, "| rustc | `{}` |", machine::rustc_version());
+        let _ = writeln!(
+            md,
+            "| Box2D | {} via boxdd {}; CFLAGS `{}`; AVX2 path {} |",
+            box2d::version(),
+            env!("TUMBLE_BENCH_BOXDD_VERSION"),
+            machine::build_cflags(),
+            if cfg!(feature = "simd-avx2") {
+                "on (`simd-avx2`)"
+            } else {
+                "off"
+            }
+        );
+        let _ = writeln!(
+            md,
+            "| Rapier | rapier2d {} (feature `parallel`) |",
+            rapier::version()
+        );
+        let _ = writeln!(
+            md,
+            "| build | {} |",
+            if machine::optimised() {
+                "release"
+            } else {
+                "debug (timings meaningless)"
+            }
+        );
+        let command: Vec<String> = std::env::args().skip(1).collect();
+        let _ = writeln!(md, "| command | `tumble-bench {}` |\n", command.join(" "));
+        for w in warnings {
+            let _ = writeln!(md, "> **Warning:** {w}\n");
+        }
+
+        let _ = writeln!(md, "## ms per step (min / median)\n");
+        let _ = writeln!(
+            md,
+            "| scene | bodies | threads | steps | tumble | Box2D | Rapier | tumble ÷ Box2D | tumble ÷ Rapier |"
+        );
+        let _ = writeln!(md, "|---|--:|--:|--:|--:|--:|--:|--:|--:|");
+        for l in lines {
+            let cell = |(lo, med): (f64, f64)| format!("{lo:.3} / {med:.3}");
+            let _ = writeln!(
+                md,
+                "| {} | {} | {} | {} | {} | {} | {} | {:.2} | {:.2} |",
+                l.scene,
+                l.bodies,
+                l.threads,
+                l.steps,
+                cell(l.ms[0]),
+                cell(l.ms[1]),
+                cell(l.ms[2]),
+                l.ratio(1),
+                l.ratio(2)
+            );
+        }
+        let _ = writeln!(md);
+
+        if let Some(c) = check {
+            let _ = writeln!(md, "## Cross-check: do they simulate the same thing?\n");
+            let _ = writeln!(
+                md,
+                "`pyramid` ({} rows of 1 m boxes on a static ground), 1 thread, {} steps: the top \
+                 box, which starts at x = {:.4} m, y = {:.4} m.\n",
+                c.rows, c.steps, c.start[0], c.start[1]
+            );
+            let _ = writeln!(md, "| engine | x (m) | y (m) | angle (rad) |\n|---|--:|--:|--:|");
+            for (e, p) in ENGINES.iter().zip(&c.poses) {
+                let _ = writeln!(
+                    md,
+                    "| {} | {:.5} | {:.5} | {:.6} |",
+                    e.title(),
+                    p[0],
+                    p[1],
+                    p[2]
+                );
+            }
+            let _ = writeln!(md);
+        }
+
+        let _ = writeln!(md, "## Settings\n");
+        let _ = writeln!(
+            md,
+            "- **tumble**: `World::from_scene` defaults (contact 30 Hz, damping ratio 10, push-out \
+             3 m/s, 1 relax pass, warm starting, restitution threshold 1 m/s, speed cap 400 m/s); \
+             `set_thread_count(threads)`.\n\
+             - **Box2D**: tumble's gravity, contact hertz, damping ratio, push-out speed \
+             (`contactSpeed`), restitution threshold and speed cap; sleep off; continuous \
+             collision off (tumble has none); contact events off (tumble makes none); \
+             `workerCount = threads` (Box2D's own scheduler: the caller plus threads − 1). Boxes \
+             are `b2MakeBox`, other polygons the hull of tumble's recentred vertices, radius 0. \
+             Friction mixes as `sqrt(a·b)` and restitution as `max(a, b)`, as in tumble.\n\
+             - **Rapier**: `dt` = the scene's, `num_solver_iterations` = the scene's substeps \
+             (Rapier's substeps), all other integration parameters Rapier's defaults; \
+             `max_ccd_substeps = 0` (CCD off everywhere) and no body asks for CCD; `can_sleep(false)` \
+             on every body; friction: each collider its body's coefficient with \
+             `CoefficientCombineRule::GeometricMean`, which is `sqrt(a·b)` for every pair, \
+             exactly tumble's rule (not `Multiply`, which would give `a·b`); restitution \
+             `CoefficientCombineRule::Max`. The step runs inside a rayon pool of `threads` \
+             threads (`ThreadPool::install`)."
+        );
+        md
+    }
+}
