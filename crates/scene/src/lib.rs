@@ -662,9 +662,9 @@ mod tests {
             json("{\"substeps\": -1, \"bodies\": []}", "neg.json"),
             &["neg.json:1:", "-1"],
         );
-        // A pair written as a list in RON: the hint says how pairs are written.
-        let text = one_body_ron("position: [1.0, 2.0], shape: Circle(radius: 1.0)");
-        expect_err(ron(&text, "pair.ron"), &["pair.ron:3:", "(x, y)"]);
+        // A pair of the wrong shape in RON: the message says how pairs are written.
+        let text = one_body_ron("position: (1.0, 2.0, 3.0), shape: Circle(radius: 1.0)");
+        expect_err(ron(&text, "pair.ron"), &["pair.ron:3:", "[x, y]", "(x, y)"]);
         // A pair of the wrong length.
         let text = "{\"gravity\": [0, -10, 3], \"bodies\": []}";
         expect_err(json(text, "len.json"), &["len.json:1:"]);
