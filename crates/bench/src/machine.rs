@@ -15,7 +15,8 @@ pub fn cpu_model() -> String {
         .unwrap_or_else(|| "unknown".into())
 }
 
-/// Whether `/proc/cpuinfo` lists the `avx2` flag (falls back to the running CPU's feature test).
+/// Whether the running CPU has AVX2.
+#[cfg(feature = "peers")]
 pub fn cpu_has_avx2() -> bool {
     #[cfg(target_arch = "x86_64")]
     {
@@ -59,6 +60,7 @@ pub fn rustc_version() -> &'static str {
 }
 
 /// `CFLAGS` as the build saw it ("unset" when it was not set).
+#[cfg(feature = "peers")]
 pub fn build_cflags() -> &'static str {
     env!("TUMBLE_BENCH_CFLAGS")
 }

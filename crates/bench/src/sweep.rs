@@ -168,7 +168,12 @@ pub fn run(args: &SweepArgs) -> Result<()> {
     write_csv(&csv, &rows, args)?;
     let mut written = vec![csv];
     written.extend(write_charts(&args.out_dir, &rows, &body_threads)?);
-    print!("{}", table(&rows, args));
+    let table = table(&rows, args);
+    let md = args.out_dir.join("sweep.md");
+    fs::write(&md, markdown(&table, &written, args))
+        .with_context(|| format!("cannot write {}", md.display()))?;
+    written.push(md);
+    print!("{table}");
     for path in &written {
         println!("wrote {}", path.display());
     }
@@ -391,4 +396,44 @@ fn table(rows: &[Row], args: &SweepArgs) -> String {
         }
     }
     out
+}
+
+/// sweep.md: the machine, the table and the charts.
+fn markdown(table: &str, files: &[PathBuf], args: &SweepArgs) -> String {
+    use crate::machine;
+    let mut md = String::from("# tumble: step time against threads and body count\n\n");
+    let _ = writeln!(
+        md,
+        "Written by `tumble-bench sweep`. Each run builds a fresh world, steps it {} times \
+         untimed (warm-up), then times {} steps: the wall time of each `World::step` call, and \
+         each stage from `World::profile()`. Numbers are the median (and min) over {} runs. \
+         The body-count family is `pile_N`: N seeded boxes and circles dropped into a static \
+         box, at 1 thread and at the most threads asked for.\n",
+        args.warmup, args.steps, args.repeats
+    );
+    let _ = writeln!(md, "| | |\n|---|---|");
+    let _ = writeln!(md, "| CPU | {} |", machine::cpu_model());
+    let _ = writeln!(md, "| cores | {} |", machine::cores());
+    let _ = writeln!(md, "| tumble revision | `{}` |", machine::git_revision());
+    let _ = writeln!(md, "| rustc | `{}` |", machine::rustc_version());
+    let _ = writeln!(
+        md,
+        "| build | {} |",
+        if machine::optimised() {
+            "release"
+        } else {
+            "debug (timings meaningless)"
+        }
+    );
+    let command: Vec<String> = std::env::args().skip(1).collect();
+    let _ = writeln!(md, "| command | `tumble-bench {}` |\n", command.join(" "));
+    let _ = writeln!(md, "```text{table}```\n");
+    for f in files {
+        if f.extension().is_some_and(|e| e == "svg") {
+            if let Some(name) = f.file_name().and_then(|n| n.to_str()) {
+                let _ = writeln!(md, "![{name}]({name})\n");
+            }
+        }
+    }
+    md
 }
