@@ -8,6 +8,7 @@ fn main() {
     let sub: u32 = a.get(4).map_or(scene.substeps, |s| s.parse().unwrap());
     let mut w = World::from_scene(&scene, &Limits::default()).unwrap();
     w.settings_mut().contact_hertz = hz;
+    w.settings_mut().contact_recycling = std::env::var("NORECYCLE").is_err();
     let init: Vec<_> = (0..w.body_count()).map(|i| w.body(i).position).collect();
     for s in 1..=steps {
         w.step(scene.dt, sub);

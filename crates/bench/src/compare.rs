@@ -68,9 +68,9 @@ mod imp {
 
     use super::CompareArgs;
     use crate::machine;
+    use crate::peers::Peer;
     use crate::peers::box2d::{self, Box2d};
     use crate::peers::rapier::{self, Rapier};
-    use crate::peers::Peer;
     use crate::plot::{self, Chart, Series};
     use crate::scenes;
     use crate::sweep::csv_field;
@@ -297,7 +297,10 @@ mod imp {
         }
         let mut written = Vec::new();
         let md = args.out_dir.join("compare.md");
-        write(&md, &markdown(&summary, check.as_ref(), &warnings, args, &threads))?;
+        write(
+            &md,
+            &markdown(&summary, check.as_ref(), &warnings, args, &threads),
+        )?;
         written.push(md);
         let csv = args.out_dir.join("compare.csv");
         write(&csv, &summary_csv(&summary, args.repeats))?;
@@ -471,7 +474,10 @@ mod imp {
                 .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
                 .collect();
             let path = dir.join(format!("compare_{slug}.svg"));
-            let title = format!("{name} ({} bodies): ms per step against threads", of[0].bodies);
+            let title = format!(
+                "{name} ({} bodies): ms per step against threads",
+                of[0].bodies
+            );
             plot::linear(
                 &path,
                 &Chart {
@@ -638,7 +644,10 @@ mod imp {
                  box, which starts at x = {:.4} m, y = {:.4} m.\n",
                 c.rows, c.steps, c.start[0], c.start[1]
             );
-            let _ = writeln!(md, "| engine | x (m) | y (m) | angle (rad) |\n|---|--:|--:|--:|");
+            let _ = writeln!(
+                md,
+                "| engine | x (m) | y (m) | angle (rad) |\n|---|--:|--:|--:|"
+            );
             for (e, p) in ENGINES.iter().zip(&c.poses) {
                 let _ = writeln!(
                     md,

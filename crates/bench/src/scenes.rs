@@ -132,7 +132,11 @@ mod tests {
                 .filter(|b| b.kind == BodyKind::Dynamic)
                 .count();
             assert_eq!(dynamic, n);
-            assert_eq!(scene, pile(n, PILE_SEED), "the same seed gives the same pile");
+            assert_eq!(
+                scene,
+                pile(n, PILE_SEED),
+                "the same seed gives the same pile"
+            );
         }
         assert_ne!(pile(50, 1), pile(50, 2));
     }

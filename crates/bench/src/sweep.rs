@@ -263,11 +263,7 @@ fn slug(name: &str) -> String {
         .collect()
 }
 
-fn write_charts(
-    dir: &Path,
-    rows: &[Row],
-    body_threads: &[usize],
-) -> Result<Vec<PathBuf>> {
+fn write_charts(dir: &Path, rows: &[Row], body_threads: &[usize]) -> Result<Vec<PathBuf>> {
     let mut written = Vec::new();
     let stages = stage_names(rows);
     let thread_groups = groups(rows, "threads");
@@ -278,8 +274,10 @@ fn write_charts(
             continue;
         }
         seen.push(name.clone());
-        let of_scene: Vec<&Vec<&Row>> =
-            thread_groups.iter().filter(|g| g[0].scene == name).collect();
+        let of_scene: Vec<&Vec<&Row>> = thread_groups
+            .iter()
+            .filter(|g| g[0].scene == name)
+            .collect();
         let points = |f: &dyn Fn(&Row) -> f64| -> Vec<(f64, f64)> {
             let mut p: Vec<(f64, f64)> = of_scene
                 .iter()
@@ -381,13 +379,7 @@ fn table(rows: &[Row], args: &SweepArgs) -> String {
             let speedup = one.map_or("-".to_string(), |o| format!("{:.2}x", o / step));
             let mut line = format!(
                 "{:<8} {:<16} {:>7} {:>3} {:>8.3} ({:>6.3}) {:>7}",
-                family,
-                g[0].scene,
-                g[0].bodies,
-                g[0].threads,
-                step,
-                best,
-                speedup
+                family, g[0].scene, g[0].bodies, g[0].threads, step, best, speedup
             );
             for i in 0..stages.len() {
                 let _ = write!(line, " {:>10.3}", median_of(g, |r| r.run.stages[i].1));

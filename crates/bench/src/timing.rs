@@ -19,12 +19,7 @@ pub struct TumbleRun {
 }
 
 /// Builds the scene's world with `threads` workers and times it (see [`TumbleRun`]).
-pub fn time_tumble(
-    scene: &SceneDef,
-    threads: usize,
-    warmup: u32,
-    steps: u32,
-) -> Result<TumbleRun> {
+pub fn time_tumble(scene: &SceneDef, threads: usize, warmup: u32, steps: u32) -> Result<TumbleRun> {
     let mut world = World::from_scene(scene, &scenes::limits())
         .with_context(|| format!("{}: cannot build the world", scene.name))?;
     world.set_thread_count(threads);
@@ -52,7 +47,10 @@ pub fn time_tumble(
     let n = f64::from(steps.max(1));
     Ok(TumbleRun {
         step_ms: wall / n,
-        stages: stages.into_iter().map(|(name, ms)| (name, ms / n)).collect(),
+        stages: stages
+            .into_iter()
+            .map(|(name, ms)| (name, ms / n))
+            .collect(),
         contacts: contacts / n,
     })
 }

@@ -44,6 +44,9 @@ pub struct StepSettings {
     pub max_linear_speed: f32,
     /// Seed each step's solve with the last step's impulses.
     pub warm_starting: bool,
+    /// Keep a contact's manifold while its pair barely moves (Box2D v3's contact recycling):
+    /// cheaper narrow phase and steadier stacks.
+    pub contact_recycling: bool,
 }
 
 impl Default for StepSettings {
@@ -57,6 +60,7 @@ impl Default for StepSettings {
             restitution_threshold: 1.0,
             max_linear_speed: 400.0,
             warm_starting: true,
+            contact_recycling: true,
         }
     }
 }
@@ -595,6 +599,7 @@ impl World {
         let states = &self.states;
         let shapes = &self.shapes;
         let aabbs = &self.fat_aabbs;
+        let recycling = self.settings.contact_recycling;
         let recycled: usize = self
             .contacts
             .par_iter_mut()
@@ -606,7 +611,7 @@ impl World {
                     return 0;
                 }
                 let (xa, xb) = (sims[a].xf, sims[b].xf);
-                if recycle(c, &sims[a], &sims[b]) {
+                if recycling && recycle(c, &sims[a], &sims[b]) {
                     return 1;
                 }
                 c.cache = Some(ContactCache {

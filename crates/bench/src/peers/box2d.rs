@@ -11,7 +11,7 @@
 use anyhow::{Result, bail};
 use boxdd::{
     BodyBuilder, BodyId, BodyType, Foundation, MotionLocks, Position, ShapeDef, SurfaceMaterial,
-    Vec2, World, WorkerCount, WorldBuilder,
+    Vec2, WorkerCount, World, WorldBuilder,
 };
 use tumble_physics::{BodyKind, SceneDef, Shape, ShapeDef as TumbleShape, StepSettings};
 
@@ -105,7 +105,8 @@ impl Box2d {
                     ok(body.create_centered_circle(&shape_def, c.radius), &what)?;
                 }
                 (_, Shape::Polygon(p)) => {
-                    let points: Vec<Vec2> = p.points().iter().map(|v| Vec2::new(v.x, v.y)).collect();
+                    let points: Vec<Vec2> =
+                        p.points().iter().map(|v| Vec2::new(v.x, v.y)).collect();
                     ok(
                         body.create_polygon_from_points(&shape_def, points, 0.0),
                         &what,
@@ -128,7 +129,10 @@ impl Box2d {
 
 impl Peer for Box2d {
     fn step(&mut self) -> Result<()> {
-        ok(self.world.step(self.dt, self.substeps).map(|_| ()), "Box2D step")
+        ok(
+            self.world.step(self.dt, self.substeps).map(|_| ()),
+            "Box2D step",
+        )
     }
 
     fn pose(&mut self, index: usize) -> Result<[f32; 3]> {
