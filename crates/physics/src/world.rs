@@ -441,6 +441,45 @@ impl World {
         }
     }
 
+    /// A body's mass (kg); zero for static and kinematic bodies.
+    pub fn mass(&self, index: usize) -> f32 {
+        let inv = self.solver_bodies[index].inv_mass;
+        if inv > 0.0 { 1.0 / inv } else { 0.0 }
+    }
+
+    /// Applies an impulse (N·s) at a world point to a dynamic body: its velocities change at
+    /// once (a mouse spring, an explosion). Ignored for other bodies and non-finite input.
+    pub fn apply_linear_impulse(&mut self, index: usize, impulse: Vec2, point: Vec2) {
+        let body = self.solver_bodies[index];
+        if !body.dynamic || !impulse.is_finite() || !point.is_finite() {
+            return;
+        }
+        let r = point - self.sims[index].xf.p;
+        let s = &mut self.states[index];
+        s.v += impulse * body.inv_mass;
+        s.w += body.inv_inertia * crate::math::cross(r, impulse);
+    }
+
+    /// The index of a body whose shape contains the world point, if any (the last one in id
+    /// order, which a viewer draws on top).
+    pub fn body_at(&self, point: Vec2) -> Option<usize> {
+        (0..self.sims.len()).rev().find(|&i| {
+            let local = self.sims[i].xf.apply_inv(point);
+            match &self.shapes[i] {
+                Shape::Circle(c) => local.length_squared() <= c.radius * c.radius,
+                Shape::Polygon(p) => (0..p.count)
+                    .all(|k| crate::math::dot(p.normals[k], local - p.vertices[k]) <= 0.0),
+            }
+        })
+    }
+
+    /// `(contact index, graph colour)` for every touching contact of the last step, where the
+    /// index is a position in [`World::contacts`] and colour 23 is the overflow; for debug
+    /// drawing of the constraint graph.
+    pub fn contact_colors(&self) -> Vec<(usize, u8)> {
+        self.solver.contact_colors()
+    }
+
     /// The last step's per-stage profile.
     pub fn profile(&self) -> &StepProfile {
         &self.profile
@@ -836,4 +875,75 @@ fn swept_aabb(shape: &Shape, sim: &BodySim, st: &BodyState, dt: f32) -> Aabb {
 
 fn ms(t: Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::ShapeDef;
+
+    fn ball_on_ground() -> World {
+        let mut w = World::new(StepSettings::default());
+        w.add_body(
+            &BodyDef::new(ShapeDef::Box {
+                half_extents: [5.0, 0.5],
+            })
+            .kind(BodyKind::Static),
+        )
+        .unwrap();
+        w.add_body(&BodyDef::new(ShapeDef::Circle { radius: 0.5 }).at(0.0, 1.0))
+            .unwrap();
+        w
+    }
+
+    #[test]
+    fn impulse_changes_velocity_by_inverse_mass() {
+        let mut w = ball_on_ground();
+        let m = w.mass(1);
+        // Disc of radius 0.5 at density 1: m = π/4.
+        assert!((m - std::f32::consts::FRAC_PI_4).abs() < 1e-6);
+        w.apply_linear_impulse(1, Vec2::new(2.0, 0.0), Vec2::new(0.0, 1.5));
+        let b = w.body(1);
+        assert!((b.linear_velocity.x - 2.0 / m).abs() < 1e-5);
+        // Off-centre by +0.5 in y: torque r × J = 0.5·0 − 0.5·2 = −1; w = −1 / (m r²/2).
+        assert!((b.angular_velocity + 1.0 / (0.5 * m * 0.25)).abs() < 1e-4);
+        // Static bodies ignore it.
+        w.apply_linear_impulse(0, Vec2::new(5.0, 0.0), Vec2::ZERO);
+        assert_eq!(w.body(0).linear_velocity, Vec2::ZERO);
+    }
+
+    #[test]
+    fn body_at_picks_the_shape_under_the_point() {
+        let w = ball_on_ground();
+        assert_eq!(w.body_at(Vec2::new(0.1, 1.2)), Some(1));
+        assert_eq!(w.body_at(Vec2::new(4.0, 0.0)), Some(0));
+        assert_eq!(w.body_at(Vec2::new(0.0, 3.0)), None);
+    }
+
+    #[test]
+    fn thread_count_changes_between_steps_keep_the_result() {
+        let run = |switch: bool| {
+            let mut w = ball_on_ground();
+            for i in 0..60 {
+                if switch {
+                    w.set_thread_count(1 + i % 3);
+                }
+                w.step(1.0 / 60.0, 4);
+            }
+            w.state_hash()
+        };
+        assert_eq!(run(false), run(true));
+    }
+
+    #[test]
+    fn contact_colors_cover_the_touching_contacts() {
+        let mut w = ball_on_ground();
+        for _ in 0..30 {
+            w.step(1.0 / 60.0, 4);
+        }
+        let colors = w.contact_colors();
+        assert_eq!(colors.len(), w.profile().touching);
+        // A dynamic body against a static one goes to the top colours (Box2D's rule).
+        assert!(colors.iter().all(|&(_, c)| c >= 1 && c < 23), "{colors:?}");
+    }
 }

@@ -183,6 +183,24 @@ impl Solver {
             });
     }
 
+    /// `(contact index, colour)` of every constraint of the last step, overflow as 23.
+    pub fn contact_colors(&self) -> Vec<(usize, u8)> {
+        let mut out = Vec::with_capacity(self.constraints.len());
+        for (k, r) in self.color_ranges.iter().enumerate() {
+            let color = if k == 0 {
+                OVERFLOW as u8
+            } else {
+                (k - 1) as u8
+            };
+            out.extend(
+                self.constraints[r.clone()]
+                    .iter()
+                    .map(|c| (c.contact as usize, color)),
+            );
+        }
+        out
+    }
+
     /// Colours in use, overflow not counted.
     pub fn active_colors(&self) -> usize {
         self.color_ranges[1..]
