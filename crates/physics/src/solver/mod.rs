@@ -73,6 +73,8 @@ pub struct Solver {
     wide_source: Vec<Range<u32>>,
     /// Whether any constraint of this step has restitution.
     pub any_restitution: bool,
+    /// Solve colours eight constraints at a time (else on the scalar path; same results).
+    pub use_wide: bool,
 }
 
 /// The knobs the solver reads each step.
@@ -132,7 +134,7 @@ impl Solver {
             self.slot_source[cursor[color]] = k as u32;
             cursor[color] += 1;
         }
-        self.constraints.clear();
+        // Every slot is overwritten below: only grow or shrink, never clear 2 MB serially.
         self.constraints
             .resize(offset, ContactConstraint::default());
         let slot_source = &self.slot_source;
@@ -145,14 +147,14 @@ impl Solver {
                 *con =
                     build_constraint(contact_index, &input(contact_index), bodies, states, params);
             });
-        self.any_restitution = self.constraints.iter().any(|c| c.restitution > 0.0);
+        self.any_restitution = self.constraints.par_iter().any(|c| c.restitution > 0.0);
 
         // Pack each colour eight to a wide constraint; again one slot per task.
         self.wide_ranges.clear();
         self.wide_source.clear();
         for (k, r) in self.color_ranges.iter().enumerate() {
             let start = self.wide_source.len();
-            if k > 0 {
+            if k > 0 && self.use_wide {
                 let mut first = r.start;
                 while first < r.end {
                     let last = (first + LANES).min(r.end);
@@ -230,11 +232,11 @@ impl Solver {
         workers: usize,
     ) -> u64 {
         let workers = workers.max(1);
-        let overflow = self.color_ranges[0].clone();
         let any_restitution = self.any_restitution;
         let stages = Stages {
-            overflow_len: overflow.len(),
-            overflow: SharedSlice::new(&mut self.constraints[overflow]),
+            scalar: SharedSlice::new(&mut self.constraints),
+            color_ranges: &self.color_ranges,
+            use_wide: self.use_wide,
             wide: SharedSlice::new(&mut self.wide),
             wide_ranges: &self.wide_ranges,
             any_restitution,
@@ -246,7 +248,13 @@ impl Solver {
             run_parallel(&stages, states, motion, step, workers)
         };
         // Store needs the impulses in the scalar constraints.
-        for (k, r) in self.wide_ranges.iter().enumerate().skip(1) {
+        for (k, r) in self
+            .wide_ranges
+            .iter()
+            .enumerate()
+            .skip(1)
+            .filter(|_| self.use_wide)
+        {
             let cr = self.color_ranges[k].clone();
             for (j, w) in self.wide[r.clone()].iter().enumerate() {
                 let first = cr.start + j * LANES;
@@ -379,8 +387,9 @@ pub struct SubstepParams {
 
 /// The constraint arrays the workers share.
 struct Stages<'a> {
-    overflow: SharedSlice<'a, ContactConstraint>,
-    overflow_len: usize,
+    scalar: SharedSlice<'a, ContactConstraint>,
+    color_ranges: &'a [Range<usize>],
+    use_wide: bool,
     wide: SharedSlice<'a, WideConstraint>,
     wide_ranges: &'a [Range<usize>],
     any_restitution: bool,
@@ -405,23 +414,28 @@ fn run_worker(
     let bodies = worker_range(&(0..motion.len()), worker, workers);
     let inv_h = 1.0 / p.h;
     // A colour stage: worker 0 alone solves the overflow on the scalar path, then every
-    // colour's wide constraints are shared among the workers, a barrier after each.
-    let colors = |overflow: &mut dyn FnMut(&mut [ContactConstraint]),
+    // colour's constraints (eight-wide, or scalar when SIMD is off) are shared among the
+    // workers, a barrier after each.
+    let colors = |scalar: &mut dyn FnMut(&mut [ContactConstraint]),
                   colour: &mut dyn FnMut(&mut [WideConstraint])| {
-        if stages.overflow_len > 0 {
-            if worker == 0 {
-                // SAFETY: only worker 0 touches the overflow, and the others wait at the barrier.
-                overflow(unsafe { stages.overflow.range_mut(0..stages.overflow_len) });
-            }
-            sync();
-        }
-        for r in &stages.wide_ranges[1..] {
+        for (k, r) in stages.color_ranges.iter().enumerate() {
             if r.is_empty() {
                 continue;
             }
-            let mine = worker_range(r, worker, workers);
-            // SAFETY: worker ranges of one colour are disjoint, and barriers separate colours.
-            colour(unsafe { stages.wide.range_mut(mine) });
+            if k == 0 {
+                if worker == 0 {
+                    // SAFETY: only worker 0 touches the overflow; the others wait at the barrier.
+                    scalar(unsafe { stages.scalar.range_mut(r.clone()) });
+                }
+            } else if stages.use_wide {
+                let mine = worker_range(&stages.wide_ranges[k], worker, workers);
+                // SAFETY: worker ranges of one colour are disjoint; barriers separate colours.
+                colour(unsafe { stages.wide.range_mut(mine) });
+            } else {
+                let mine = worker_range(r, worker, workers);
+                // SAFETY: as above.
+                scalar(unsafe { stages.scalar.range_mut(mine) });
+            }
             sync();
         }
     };
