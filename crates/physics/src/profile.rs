@@ -32,6 +32,9 @@ pub struct StepProfile {
     pub moved: usize,
     /// Contacts whose manifold was recycled rather than recomputed.
     pub recycled: usize,
+    /// Bodies whose state went non-finite in the step and were stopped at their last finite
+    /// pose (zero unless something upstream is broken).
+    pub non_finite: usize,
 }
 
 /// Names of the timed stages, in pipeline order.

@@ -164,6 +164,9 @@ pub struct World {
     /// Proxies whose fat box changed since the last pair search.
     moved: Vec<u32>,
     moved_flags: Vec<bool>,
+    /// Set by finalize for a body whose state went non-finite (then counted and cleared).
+    guarded: Vec<bool>,
+    guarded_last_step: usize,
     tree_dirty: bool,
     moved_since_rebuild: usize,
     broad_phase: BroadPhase,
@@ -204,6 +207,8 @@ impl World {
             fat_aabbs: Vec::new(),
             moved: Vec::new(),
             moved_flags: Vec::new(),
+            guarded: Vec::new(),
+            guarded_last_step: 0,
             tree_dirty: true,
             moved_since_rebuild: 0,
             broad_phase: BroadPhase::default(),
@@ -331,6 +336,7 @@ impl World {
         self.fat_aabbs.push(aabb);
         self.moved.push(index as u32);
         self.moved_flags.push(true);
+        self.guarded.push(false);
         self.motion.push(BodyMotion {
             dynamic: def.kind == BodyKind::Dynamic,
             moves: def.kind != BodyKind::Static,
@@ -435,7 +441,8 @@ impl World {
 
     /// Sets a body's velocities (e.g. a mouse drag); ignored for static bodies.
     pub fn set_velocity(&mut self, index: usize, linear: Vec2, angular: f32) {
-        if self.sims[index].kind == BodyKind::Static {
+        if self.sims[index].kind == BodyKind::Static || !linear.is_finite() || !angular.is_finite()
+        {
             return;
         }
         let s = &mut self.states[index];
@@ -540,6 +547,7 @@ impl World {
         profile.contacts = self.contacts.len();
         profile.moved = self.moved.len();
         profile.recycled = self.profile_recycled;
+        profile.non_finite = self.guarded_last_step;
         profile.step_ms = ms(start);
         self.profile = profile;
     }
@@ -785,9 +793,10 @@ impl World {
             .zip(self.states.par_iter_mut())
             .zip(self.fat_aabbs.par_iter_mut())
             .zip(self.moved_flags.par_iter_mut())
+            .zip(self.guarded.par_iter_mut())
             .enumerate()
             .with_min_len(256)
-            .for_each(|(i, (((sim, st), fat), moved))| {
+            .for_each(|(i, ((((sim, st), fat), moved), guarded))| {
                 if sim.kind == BodyKind::Static {
                     return;
                 }
@@ -796,10 +805,26 @@ impl World {
                 let max_motion = (st.dp.length() + st.dq.s.abs() * sim.extent)
                     .max((st.v.length() + st.w.abs() * sim.extent) * dt);
                 sim.fast = max_motion > 0.5 * sim.min_extent;
-                sim.xf.p += st.dp;
-                sim.xf.q = st.dq.then_from(sim.xf.q).normalize();
+                let p = sim.xf.p + st.dp;
+                let q = st.dq.then_from(sim.xf.q).normalize();
                 st.dp = Vec2::ZERO;
                 st.dq = Rot::IDENTITY;
+                // Numerical guard: a body whose state went non-finite (it cannot with finite
+                // input, but a guard costs four compares) keeps its last finite pose and stops,
+                // rather than spreading NaN through its contacts.
+                if p.is_finite()
+                    && q.c.is_finite()
+                    && q.s.is_finite()
+                    && st.v.is_finite()
+                    && st.w.is_finite()
+                {
+                    sim.xf.p = p;
+                    sim.xf.q = q;
+                } else {
+                    st.v = Vec2::ZERO;
+                    st.w = 0.0;
+                    *guarded = true;
+                }
                 let tight = swept_aabb(&shapes[i], sim, st, dt);
                 if !fat.contains(&tight) {
                     *fat = tight.grown(sim.margin);
@@ -813,6 +838,11 @@ impl World {
             }
         }
         self.moved_since_rebuild += self.moved.len();
+        let mut guarded = 0;
+        for g in &mut self.guarded {
+            guarded += usize::from(std::mem::take(g));
+        }
+        self.guarded_last_step = guarded;
     }
 }
 
