@@ -12,7 +12,7 @@ use crate::math::{Transform, cross, dot, normalize_and_length, right_perp};
 use crate::scene::{MAX_POLYGON_VERTICES, ShapeDef};
 
 /// An axis-aligned bounding box.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Aabb {
     /// Lower corner.
     pub min: Vec2,
@@ -82,14 +82,14 @@ pub struct MassData {
 }
 
 /// A disc centred on its body.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Circle {
     /// Radius (m).
     pub radius: f32,
 }
 
 /// A convex polygon centred on its centroid, counter-clockwise, with outward edge normals.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Polygon {
     /// Vertices; only the first `count` are used.
     pub vertices: [Vec2; MAX_POLYGON_VERTICES],
@@ -234,7 +234,7 @@ fn polygon_centroid(v: &[Vec2]) -> Vec2 {
 }
 
 /// A body's collision shape.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Shape {
     /// A disc.
     Circle(Circle),

@@ -13,7 +13,7 @@ use crate::math::{Transform, dot, normalize_and_length};
 use crate::shape::{Circle, Polygon, Shape};
 
 /// One contact point.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ManifoldPoint {
     /// World point midway between the surfaces.
     pub point: Vec2,
@@ -42,7 +42,7 @@ pub struct ManifoldPoint {
 }
 
 /// Up to two contact points sharing one normal.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Manifold {
     /// Unit normal from A to B, in the world.
     pub normal: Vec2,

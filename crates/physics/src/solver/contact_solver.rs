@@ -8,7 +8,7 @@ use crate::math::{Rot, cross, cross_sv, dot, right_perp};
 use crate::parallel::BodyStates;
 
 /// The part of a body the substep loop touches: 32 bytes, so 2 fit a cache line.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[repr(C, align(32))]
 pub struct BodyState {
     /// Linear velocity of the centre of mass.

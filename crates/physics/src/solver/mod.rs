@@ -27,7 +27,7 @@ use graph_color::{COLOR_COUNT, GraphColoring, OVERFLOW};
 use wide::{LANES, WideConstraint};
 
 /// What prepare needs to know of a body.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 pub struct SolverBody {
     /// Inverse mass (0 for static and kinematic bodies).
     pub inv_mass: f32,
@@ -352,7 +352,7 @@ fn build_constraint(
 }
 
 /// What the integration stages need of a body.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct BodyMotion {
     /// Gravity and damping act on it, and the speed cap.
     pub dynamic: bool,
