@@ -865,15 +865,14 @@ impl World {
         profile.solve_ms = ms(t);
 
         let t = Instant::now();
-        for con in &self.solver.constraints {
-            let m = &mut self.contacts[con.contact as usize].manifold;
-            for (mp, cp) in m.points[..con.count].iter_mut().zip(&con.points) {
-                mp.normal_impulse = cp.normal_impulse;
-                mp.tangent_impulse = cp.tangent_impulse;
-                mp.total_normal_impulse = cp.total_normal_impulse;
-                mp.normal_velocity = cp.relative_velocity;
-            }
-        }
+        let contacts = &mut self.contacts;
+        self.solver.for_each_result(|contact, k, r| {
+            let mp = &mut contacts[contact as usize].manifold.points[k];
+            mp.normal_impulse = r.normal_impulse;
+            mp.tangent_impulse = r.tangent_impulse;
+            mp.total_normal_impulse = r.total_normal_impulse;
+            mp.normal_velocity = r.relative_velocity;
+        });
         profile.store_impulses_ms = ms(t);
     }
 

@@ -134,22 +134,27 @@ impl Solver {
             self.slot_source[cursor[color]] = k as u32;
             cursor[color] += 1;
         }
-        // Every slot is overwritten below: only grow or shrink, never clear 2 MB serially.
+        // Scalar constraints: the overflow always (it comes first), every colour when SIMD is
+        // off. Each slot is built in parallel and written only by its own task.
+        let scalar_len = if self.use_wide {
+            self.color_ranges[0].end
+        } else {
+            offset
+        };
         self.constraints
-            .resize(offset, ContactConstraint::default());
+            .resize(scalar_len, ContactConstraint::default());
         let slot_source = &self.slot_source;
+        let build = |slot: usize| {
+            let contact_index = touching[slot_source[slot] as usize];
+            build_constraint(contact_index, &input(contact_index), bodies, states, params)
+        };
         self.constraints
             .par_iter_mut()
             .with_min_len(256)
             .enumerate()
-            .for_each(|(slot, con)| {
-                let contact_index = touching[slot_source[slot] as usize];
-                *con =
-                    build_constraint(contact_index, &input(contact_index), bodies, states, params);
-            });
-        self.any_restitution = self.constraints.par_iter().any(|c| c.restitution > 0.0);
+            .for_each(|(slot, con)| *con = build(slot));
 
-        // Pack each colour eight to a wide constraint; again one slot per task.
+        // The colours, eight to a wide constraint, built straight into their lanes.
         self.wide_ranges.clear();
         self.wide_source.clear();
         for (k, r) in self.color_ranges.iter().enumerate() {
@@ -164,41 +169,79 @@ impl Solver {
             }
             self.wide_ranges.push(start..self.wide_source.len());
         }
-        // Reuse the buffer: a fresh 2 MB allocation each step costs page faults.
-        let constraints = &self.constraints;
         let wide_source = &self.wide_source;
-        if self.wide.len() > wide_source.len() {
-            self.wide.truncate(wide_source.len());
-        }
+        let pack = |r: &Range<u32>| {
+            let mut lanes = [ContactConstraint::default(); LANES];
+            let n = (r.end - r.start) as usize;
+            for (l, slot) in (r.start..r.end).enumerate() {
+                lanes[l] = build(slot as usize);
+            }
+            WideConstraint::pack(&lanes[..n])
+        };
+        // Reuse the buffer: a fresh 2 MB allocation each step costs page faults.
+        self.wide.truncate(wide_source.len());
         while self.wide.len() < wide_source.len() {
-            let r = &wide_source[self.wide.len()];
-            self.wide.push(WideConstraint::pack(
-                &constraints[r.start as usize..r.end as usize],
-            ));
+            self.wide.push(pack(&wide_source[self.wide.len()]));
         }
         self.wide
             .par_iter_mut()
             .zip(wide_source.par_iter())
-            .with_min_len(64)
-            .for_each(|(w, r)| {
-                *w = WideConstraint::pack(&constraints[r.start as usize..r.end as usize])
-            });
+            .with_min_len(32)
+            .for_each(|(w, r)| *w = pack(r));
+        self.any_restitution = self.constraints.par_iter().any(|c| c.restitution > 0.0)
+            || self.wide.par_iter().any(|w| w.any_restitution());
+    }
+
+    /// Calls `f(contact, point, impulses)` for every point of every constraint solved in the
+    /// last step: what the next step's warm start needs.
+    pub fn for_each_result(&self, mut f: impl FnMut(u32, usize, &PointResult)) {
+        let overflow_end = self.color_ranges[0].end;
+        let scalar = if self.use_wide {
+            &self.constraints[..overflow_end]
+        } else {
+            &self.constraints[..]
+        };
+        for c in scalar {
+            for (k, p) in c.points[..c.count].iter().enumerate() {
+                f(
+                    c.contact,
+                    k,
+                    &PointResult {
+                        normal_impulse: p.normal_impulse,
+                        tangent_impulse: p.tangent_impulse,
+                        total_normal_impulse: p.total_normal_impulse,
+                        relative_velocity: p.relative_velocity,
+                    },
+                );
+            }
+        }
+        if self.use_wide {
+            for w in &self.wide {
+                w.for_each_result(&mut f);
+            }
+        }
     }
 
     /// `(contact index, colour)` of every constraint of the last step, overflow as 23.
     pub fn contact_colors(&self) -> Vec<(usize, u8)> {
-        let mut out = Vec::with_capacity(self.constraints.len());
+        let mut out = Vec::new();
         for (k, r) in self.color_ranges.iter().enumerate() {
             let color = if k == 0 {
                 OVERFLOW as u8
             } else {
                 (k - 1) as u8
             };
-            out.extend(
-                self.constraints[r.clone()]
-                    .iter()
-                    .map(|c| (c.contact as usize, color)),
-            );
+            if k == 0 || !self.use_wide {
+                out.extend(
+                    self.constraints[r.clone()]
+                        .iter()
+                        .map(|c| (c.contact as usize, color)),
+                );
+            } else {
+                for w in &self.wide[self.wide_ranges[k].clone()] {
+                    out.extend(w.contacts().map(|c| (c as usize, color)));
+                }
+            }
         }
         out
     }
@@ -247,21 +290,6 @@ impl Solver {
         } else {
             run_parallel(&stages, states, motion, step, workers)
         };
-        // Store needs the impulses in the scalar constraints.
-        for (k, r) in self
-            .wide_ranges
-            .iter()
-            .enumerate()
-            .skip(1)
-            .filter(|_| self.use_wide)
-        {
-            let cr = self.color_ranges[k].clone();
-            for (j, w) in self.wide[r.clone()].iter().enumerate() {
-                let first = cr.start + j * LANES;
-                let last = (first + LANES).min(cr.end);
-                w.unpack_impulses(&mut self.constraints[first..last]);
-            }
-        }
         caps
     }
 }
@@ -364,6 +392,19 @@ pub struct BodyMotion {
     pub linear_damping: f32,
     /// Damping per second.
     pub angular_damping: f32,
+}
+
+/// What one contact point ends a step with.
+#[derive(Clone, Copy, Debug)]
+pub struct PointResult {
+    /// Accumulated normal impulse.
+    pub normal_impulse: f32,
+    /// Accumulated friction impulse.
+    pub tangent_impulse: f32,
+    /// Largest normal impulse of the step.
+    pub total_normal_impulse: f32,
+    /// Normal velocity before the solve.
+    pub relative_velocity: f32,
 }
 
 /// The knobs of one run of substeps.

@@ -9,6 +9,7 @@
 use glam::Vec2;
 use wide::f32x8;
 
+use super::PointResult;
 use super::contact_solver::{ConstraintPoint, ContactConstraint};
 use crate::parallel::BodyStates;
 
@@ -35,6 +36,10 @@ pub struct WidePoint {
 /// apply no impulse.
 #[derive(Clone, Copy, Debug)]
 pub struct WideConstraint {
+    /// The contact each lane came from.
+    contact: [u32; LANES],
+    /// Manifold points per lane.
+    count: [u8; LANES],
     body_a: [u32; LANES],
     body_b: [u32; LANES],
     /// Lanes whose body is dynamic (the only ones written back).
@@ -95,6 +100,8 @@ impl WideConstraint {
         debug_assert!(!src.is_empty() && src.len() <= LANES);
         let z = f32x8::ZERO;
         let mut w = WideConstraint {
+            contact: [0; LANES],
+            count: [0; LANES],
             // Tail lanes point at the first lane's bodies with zero masses: they read, never
             // write, and apply no impulse.
             body_a: [src[0].body_a; LANES],
@@ -118,6 +125,8 @@ impl WideConstraint {
             points: [WidePoint::ZERO; 2],
         };
         for (l, c) in src.iter().enumerate() {
+            w.contact[l] = c.contact;
+            w.count[l] = c.count as u8;
             w.body_a[l] = c.body_a;
             w.body_b[l] = c.body_b;
             w.dynamic_a |= u8::from(c.dynamic_a) << l;
@@ -142,18 +151,35 @@ impl WideConstraint {
         w
     }
 
-    /// Copies the accumulated impulses back into the scalar constraints they came from.
-    pub fn unpack_impulses(&self, dst: &mut [ContactConstraint]) {
+    /// Whether any lane bounces.
+    pub fn any_restitution(&self) -> bool {
+        self.any_restitution
+    }
+
+    /// The contacts of the used lanes.
+    pub fn contacts(&self) -> impl Iterator<Item = u32> + '_ {
+        self.contact[..self.lanes as usize].iter().copied()
+    }
+
+    /// Calls `f(contact, point, impulses)` for each used lane's points.
+    pub fn for_each_result(&self, f: &mut impl FnMut(u32, usize, &PointResult)) {
         for (k, wp) in self.points.iter().enumerate() {
-            let n = wp.normal_impulse.to_array();
-            let t = wp.tangent_impulse.to_array();
-            let total = wp.total_normal_impulse.to_array();
-            for (l, c) in dst.iter_mut().enumerate().take(self.lanes as usize) {
-                if k < c.count {
-                    let p = &mut c.points[k];
-                    p.normal_impulse = n[l];
-                    p.tangent_impulse = t[l];
-                    p.total_normal_impulse = total[l];
+            let n = wp.normal_impulse.as_array();
+            let t = wp.tangent_impulse.as_array();
+            let total = wp.total_normal_impulse.as_array();
+            let rv = wp.relative_velocity.as_array();
+            for l in 0..self.lanes as usize {
+                if k < self.count[l] as usize {
+                    f(
+                        self.contact[l],
+                        k,
+                        &PointResult {
+                            normal_impulse: n[l],
+                            tangent_impulse: t[l],
+                            total_normal_impulse: total[l],
+                            relative_velocity: rv[l],
+                        },
+                    );
                 }
             }
         }
