@@ -149,6 +149,47 @@ fn write(states: &BodyStates<'_>, c: &ContactConstraint, a: &BodyState, b: &Body
     }
 }
 
+/// Inverse masses and inertias of both sides.
+#[derive(Clone, Copy)]
+struct Masses {
+    ma: f32,
+    ia: f32,
+    mb: f32,
+    ib: f32,
+}
+
+impl ContactConstraint {
+    #[inline(always)]
+    fn masses(&self) -> Masses {
+        Masses {
+            ma: self.inv_mass_a,
+            ia: self.inv_i_a,
+            mb: self.inv_mass_b,
+            ib: self.inv_i_b,
+        }
+    }
+}
+
+/// Applies impulse `p` at anchors `ra` (to A, negated) and `rb` (to B).
+#[inline(always)]
+fn apply(m: Masses, a: &mut BodyState, b: &mut BodyState, ra: Vec2, rb: Vec2, p: Vec2) {
+    a.v -= p * m.ma;
+    a.w -= m.ia * cross(ra, p);
+    b.v += p * m.mb;
+    b.w += m.ib * cross(rb, p);
+}
+
+/// Adds `impulse` to a point's accumulated normal impulse, clamped so the contact only
+/// pushes; returns the part actually applied.
+#[inline(always)]
+fn accumulate_normal(p: &mut ConstraintPoint, impulse: f32) -> f32 {
+    let new_impulse = (p.normal_impulse + impulse).max(0.0);
+    let applied = new_impulse - p.normal_impulse;
+    p.normal_impulse = new_impulse;
+    p.total_normal_impulse = p.total_normal_impulse.max(new_impulse);
+    applied
+}
+
 /// Computes effective masses, base separations and the pre-solve normal velocity.
 pub fn prepare_point(
     c: &ContactConstraint,
@@ -181,14 +222,12 @@ pub fn prepare_point(
 pub fn warm_start(constraints: &[ContactConstraint], states: &BodyStates<'_>) {
     for c in constraints {
         let (mut a, mut b) = read(states, c);
+        let m = c.masses();
         let n = c.normal;
         let t = right_perp(n);
         for p in &c.points[..c.count] {
             let impulse = n * p.normal_impulse + t * p.tangent_impulse;
-            a.w -= c.inv_i_a * cross(p.anchor_a, impulse);
-            a.v -= impulse * c.inv_mass_a;
-            b.w += c.inv_i_b * cross(p.anchor_b, impulse);
-            b.v += impulse * c.inv_mass_b;
+            apply(m, &mut a, &mut b, p.anchor_a, p.anchor_b, impulse);
         }
         write(states, c, &a, &b);
     }
@@ -205,6 +244,7 @@ pub fn solve(
 ) {
     for c in constraints {
         let (mut a, mut b) = read(states, c);
+        let m = c.masses();
         let n = c.normal;
         let dp = b.dp - a.dp;
         for p in &mut c.points[..c.count] {
@@ -229,15 +269,8 @@ pub fn solve(
             let vn = dot(relative_velocity(a.v, a.w, ra, b.v, b.w, rb), n);
             let impulse =
                 -p.normal_mass * (mass_scale * vn + bias) - impulse_scale * p.normal_impulse;
-            let new_impulse = (p.normal_impulse + impulse).max(0.0);
-            let applied = new_impulse - p.normal_impulse;
-            p.normal_impulse = new_impulse;
-            p.total_normal_impulse = p.total_normal_impulse.max(new_impulse);
-            let pv = n * applied;
-            a.v -= pv * c.inv_mass_a;
-            a.w -= c.inv_i_a * cross(ra, pv);
-            b.v += pv * c.inv_mass_b;
-            b.w += c.inv_i_b * cross(rb, pv);
+            let applied = accumulate_normal(p, impulse);
+            apply(m, &mut a, &mut b, ra, rb, n * applied);
         }
         // Friction: skipped outright for frictionless pairs (model only what a scene needs).
         if !use_bias && c.friction > 0.0 {
@@ -250,11 +283,7 @@ pub fn solve(
                 let new_impulse = (p.tangent_impulse + impulse).clamp(-max_friction, max_friction);
                 let applied = new_impulse - p.tangent_impulse;
                 p.tangent_impulse = new_impulse;
-                let pt = t * applied;
-                a.v -= pt * c.inv_mass_a;
-                a.w -= c.inv_i_a * cross(ra, pt);
-                b.v += pt * c.inv_mass_b;
-                b.w += c.inv_i_b * cross(rb, pt);
+                apply(m, &mut a, &mut b, ra, rb, t * applied);
             }
         }
         write(states, c, &a, &b);
@@ -273,6 +302,7 @@ pub fn apply_restitution(
             continue;
         }
         let (mut a, mut b) = read(states, c);
+        let m = c.masses();
         let n = c.normal;
         for p in &mut c.points[..c.count] {
             if p.relative_velocity > -threshold || p.total_normal_impulse == 0.0 {
@@ -281,15 +311,8 @@ pub fn apply_restitution(
             let (ra, rb) = (p.anchor_a, p.anchor_b);
             let vn = dot(relative_velocity(a.v, a.w, ra, b.v, b.w, rb), n);
             let impulse = -p.normal_mass * (vn + c.restitution * p.relative_velocity);
-            let new_impulse = (p.normal_impulse + impulse).max(0.0);
-            let applied = new_impulse - p.normal_impulse;
-            p.normal_impulse = new_impulse;
-            p.total_normal_impulse = p.total_normal_impulse.max(new_impulse);
-            let pv = n * applied;
-            a.v -= pv * c.inv_mass_a;
-            a.w -= c.inv_i_a * cross(ra, pv);
-            b.v += pv * c.inv_mass_b;
-            b.w += c.inv_i_b * cross(rb, pv);
+            let applied = accumulate_normal(p, impulse);
+            apply(m, &mut a, &mut b, ra, rb, n * applied);
         }
         write(states, c, &a, &b);
     }

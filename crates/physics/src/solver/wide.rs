@@ -19,10 +19,7 @@ pub const LANES: usize = 8;
 /// One contact point in eight lanes.
 #[derive(Clone, Copy, Debug)]
 pub struct WidePoint {
-    anchor_ax: f32x8,
-    anchor_ay: f32x8,
-    anchor_bx: f32x8,
-    anchor_by: f32x8,
+    r: Anchors,
     base_separation: f32x8,
     normal_impulse: f32x8,
     tangent_impulse: f32x8,
@@ -30,6 +27,15 @@ pub struct WidePoint {
     normal_mass: f32x8,
     tangent_mass: f32x8,
     relative_velocity: f32x8,
+}
+
+/// Contact anchors relative to each body's centre of mass, one point per lane.
+#[derive(Clone, Copy, Debug)]
+struct Anchors {
+    ax: f32x8,
+    ay: f32x8,
+    bx: f32x8,
+    by: f32x8,
 }
 
 /// Eight contact constraints, one per lane. Unused tail lanes have zero masses, so they
@@ -65,10 +71,12 @@ pub struct WideConstraint {
 
 impl WidePoint {
     const ZERO: WidePoint = WidePoint {
-        anchor_ax: f32x8::ZERO,
-        anchor_ay: f32x8::ZERO,
-        anchor_bx: f32x8::ZERO,
-        anchor_by: f32x8::ZERO,
+        r: Anchors {
+            ax: f32x8::ZERO,
+            ay: f32x8::ZERO,
+            bx: f32x8::ZERO,
+            by: f32x8::ZERO,
+        },
         base_separation: f32x8::ZERO,
         normal_impulse: f32x8::ZERO,
         tangent_impulse: f32x8::ZERO,
@@ -80,10 +88,10 @@ impl WidePoint {
 
     #[inline(always)]
     fn set_lane(&mut self, l: usize, p: &ConstraintPoint) {
-        self.anchor_ax.as_mut_array()[l] = p.anchor_a.x;
-        self.anchor_ay.as_mut_array()[l] = p.anchor_a.y;
-        self.anchor_bx.as_mut_array()[l] = p.anchor_b.x;
-        self.anchor_by.as_mut_array()[l] = p.anchor_b.y;
+        self.r.ax.as_mut_array()[l] = p.anchor_a.x;
+        self.r.ay.as_mut_array()[l] = p.anchor_a.y;
+        self.r.bx.as_mut_array()[l] = p.anchor_b.x;
+        self.r.by.as_mut_array()[l] = p.anchor_b.y;
         self.base_separation.as_mut_array()[l] = p.base_separation;
         self.normal_impulse.as_mut_array()[l] = p.normal_impulse;
         self.tangent_impulse.as_mut_array()[l] = p.tangent_impulse;
@@ -255,41 +263,38 @@ impl WideConstraint {
     }
 }
 
-/// Applies an impulse `(px, py)` at anchors `ra`, `rb` to both bodies.
+/// Applies an impulse `(px, py)` at anchors `r` to both bodies (negated on A).
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
-fn apply(
-    m: Masses,
-    a: &mut WideBody,
-    b: &mut WideBody,
-    rax: f32x8,
-    ray: f32x8,
-    rbx: f32x8,
-    rby: f32x8,
-    px: f32x8,
-    py: f32x8,
-) {
+fn apply(m: Masses, a: &mut WideBody, b: &mut WideBody, r: &Anchors, px: f32x8, py: f32x8) {
     a.vx -= m.ma * px;
     a.vy -= m.ma * py;
-    a.w -= m.ia * (rax * py - ray * px);
+    a.w -= m.ia * (r.ax * py - r.ay * px);
     b.vx += m.mb * px;
     b.vy += m.mb * py;
-    b.w += m.ib * (rbx * py - rby * px);
+    b.w += m.ib * (r.bx * py - r.by * px);
 }
 
 /// Relative velocity of B's anchor with respect to A's: `(vB + wB × rB) − (vA + wA × rA)`.
 #[inline(always)]
-fn relative_velocity(
-    a: &WideBody,
-    b: &WideBody,
-    rax: f32x8,
-    ray: f32x8,
-    rbx: f32x8,
-    rby: f32x8,
-) -> (f32x8, f32x8) {
-    let dvx = (b.vx - b.w * rby) - (a.vx - a.w * ray);
-    let dvy = (b.vy + b.w * rbx) - (a.vy + a.w * rax);
+fn relative_velocity(a: &WideBody, b: &WideBody, r: &Anchors) -> (f32x8, f32x8) {
+    let dvx = (b.vx - b.w * r.by) - (a.vx - a.w * r.ay);
+    let dvy = (b.vy + b.w * r.bx) - (a.vy + a.w * r.ax);
     (dvx, dvy)
+}
+
+/// Adds `impulse` to the accumulated normal impulse of the lanes in `active`, clamped so
+/// contacts only push; returns what was applied.
+#[inline(always)]
+fn accumulate_normal(p: &mut WidePoint, impulse: f32x8, active: Option<f32x8>) -> f32x8 {
+    let clamped = (p.normal_impulse + impulse).fast_max(f32x8::ZERO);
+    let new_impulse = match active {
+        Some(mask) => mask.select(clamped, p.normal_impulse),
+        None => clamped,
+    };
+    let applied = new_impulse - p.normal_impulse;
+    p.normal_impulse = new_impulse;
+    p.total_normal_impulse = p.total_normal_impulse.fast_max(new_impulse);
+    applied
 }
 
 /// Warm start: apply the accumulated impulses again.
@@ -303,17 +308,7 @@ pub fn warm_start(constraints: &[WideConstraint], states: &BodyStates<'_>) {
             // P = λn·n + λt·t with t = (ny, −nx).
             let px = p.normal_impulse * nx + p.tangent_impulse * ny;
             let py = p.normal_impulse * ny - p.tangent_impulse * nx;
-            apply(
-                m,
-                &mut a,
-                &mut b,
-                p.anchor_ax,
-                p.anchor_ay,
-                p.anchor_bx,
-                p.anchor_by,
-                px,
-                py,
-            );
+            apply(m, &mut a, &mut b, &p.r, px, py);
         }
         scatter(states, &c.body_a, c.dynamic_a, &a);
         scatter(states, &c.body_b, c.dynamic_b, &b);
@@ -340,12 +335,12 @@ pub fn solve(
         let dpx = b.dpx - a.dpx;
         let dpy = b.dpy - a.dpy;
         for p in &mut c.points {
-            let (rax, ray, rbx, rby) = (p.anchor_ax, p.anchor_ay, p.anchor_bx, p.anchor_by);
+            let r = p.r;
             // Current separation from the substep deltas (rotated anchors), normal fixed.
-            let prax = a.dqc * rax - a.dqs * ray;
-            let pray = a.dqs * rax + a.dqc * ray;
-            let prbx = b.dqc * rbx - b.dqs * rby;
-            let prby = b.dqs * rbx + b.dqc * rby;
+            let prax = a.dqc * r.ax - a.dqs * r.ay;
+            let pray = a.dqs * r.ax + a.dqc * r.ay;
+            let prbx = b.dqc * r.bx - b.dqs * r.by;
+            let prby = b.dqs * r.bx + b.dqc * r.by;
             let dx = dpx + (prbx - prax);
             let dy = dpy + (prby - pray);
             let s = (dx * nx + dy * ny) + p.base_separation;
@@ -360,31 +355,18 @@ pub fn solve(
             } else {
                 (speculative.select(s * inv_h, zero), one, zero)
             };
-            let (dvx, dvy) = relative_velocity(&a, &b, rax, ray, rbx, rby);
+            let (dvx, dvy) = relative_velocity(&a, &b, &r);
             let vn = dvx * nx + dvy * ny;
             let impulse =
                 -p.normal_mass * (mass_scale * vn + bias) - impulse_scale * p.normal_impulse;
-            let new_impulse = (p.normal_impulse + impulse).fast_max(zero);
-            let applied = new_impulse - p.normal_impulse;
-            p.normal_impulse = new_impulse;
-            p.total_normal_impulse = p.total_normal_impulse.fast_max(new_impulse);
-            apply(
-                m,
-                &mut a,
-                &mut b,
-                rax,
-                ray,
-                rbx,
-                rby,
-                applied * nx,
-                applied * ny,
-            );
+            let applied = accumulate_normal(p, impulse, None);
+            apply(m, &mut a, &mut b, &r, applied * nx, applied * ny);
         }
         if !use_bias && c.any_friction {
             let (tx, ty) = (ny, -nx);
             for p in &mut c.points {
-                let (rax, ray, rbx, rby) = (p.anchor_ax, p.anchor_ay, p.anchor_bx, p.anchor_by);
-                let (dvx, dvy) = relative_velocity(&a, &b, rax, ray, rbx, rby);
+                let r = p.r;
+                let (dvx, dvy) = relative_velocity(&a, &b, &r);
                 let vt = dvx * tx + dvy * ty;
                 let impulse = -p.tangent_mass * vt;
                 let max_friction = c.friction * p.normal_impulse;
@@ -393,17 +375,7 @@ pub fn solve(
                     .fast_max(-max_friction);
                 let applied = new_impulse - p.tangent_impulse;
                 p.tangent_impulse = new_impulse;
-                apply(
-                    m,
-                    &mut a,
-                    &mut b,
-                    rax,
-                    ray,
-                    rbx,
-                    rby,
-                    applied * tx,
-                    applied * ty,
-                );
+                apply(m, &mut a, &mut b, &r, applied * tx, applied * ty);
             }
         }
         scatter(states, &c.body_a, c.dynamic_a, &a);
@@ -435,28 +407,12 @@ pub fn apply_restitution(
             if active.to_bitmask() == 0 {
                 continue;
             }
-            let (rax, ray, rbx, rby) = (p.anchor_ax, p.anchor_ay, p.anchor_bx, p.anchor_by);
-            let (dvx, dvy) = relative_velocity(&a, &b, rax, ray, rbx, rby);
+            let r = p.r;
+            let (dvx, dvy) = relative_velocity(&a, &b, &r);
             let vn = dvx * nx + dvy * ny;
             let impulse = -p.normal_mass * (vn + c.restitution * p.relative_velocity);
-            let new_impulse = active.select(
-                (p.normal_impulse + impulse).fast_max(zero),
-                p.normal_impulse,
-            );
-            let applied = new_impulse - p.normal_impulse;
-            p.normal_impulse = new_impulse;
-            p.total_normal_impulse = p.total_normal_impulse.fast_max(new_impulse);
-            apply(
-                m,
-                &mut a,
-                &mut b,
-                rax,
-                ray,
-                rbx,
-                rby,
-                applied * nx,
-                applied * ny,
-            );
+            let applied = accumulate_normal(p, impulse, Some(active));
+            apply(m, &mut a, &mut b, &r, applied * nx, applied * ny);
         }
         scatter(states, &c.body_a, c.dynamic_a, &a);
         scatter(states, &c.body_b, c.dynamic_b, &b);
