@@ -214,6 +214,7 @@ mod imp {
     }
 
     pub fn run(args: &CompareArgs) -> Result<()> {
+        let load_before = machine::load_average();
         let warnings = build_warnings()?;
         for w in &warnings {
             eprintln!("warning: {w}");
@@ -290,6 +291,7 @@ mod imp {
             None
         };
 
+        let load = format!("{load_before} before, {} after", machine::load_average());
         let summary = summarise(&measures, &list, &threads);
         print!("{}", text_table(&summary, args.repeats));
         if let Some(c) = &check {
@@ -299,7 +301,7 @@ mod imp {
         let md = args.out_dir.join("compare.md");
         write(
             &md,
-            &markdown(&summary, check.as_ref(), &warnings, args, &threads),
+            &markdown(&summary, check.as_ref(), &warnings, args, &threads, &load),
         )?;
         written.push(md);
         let csv = args.out_dir.join("compare.csv");
@@ -336,6 +338,14 @@ mod imp {
         fn ratio(&self, peer: usize) -> f64 {
             self.ms[0].1 / self.ms[peer].1
         }
+        /// tumble's minimum over the peer's minimum.
+        fn ratio_min(&self, peer: usize) -> f64 {
+            self.ms[0].0 / self.ms[peer].0
+        }
+        /// "median (min)" ratio cell.
+        fn ratio_cell(&self, peer: usize) -> String {
+            format!("{:.2} ({:.2})", self.ratio(peer), self.ratio_min(peer))
+        }
     }
 
     fn summarise(
@@ -370,10 +380,10 @@ mod imp {
         let mut out = String::new();
         let _ = writeln!(
             out,
-            "\nms per step, min / median of {repeats} runs (every step timed); ratio = tumble median / peer median"
+            "\nms per step, min / median of {repeats} runs (every step timed); ratio = tumble / peer, of the medians (of the minimums)"
         );
         let header = format!(
-            "{:<16} {:>6} {:>3} {:>5} {:>17} {:>17} {:>17} {:>12} {:>13}",
+            "{:<16} {:>6} {:>3} {:>5} {:>17} {:>17} {:>17} {:>13} {:>13}",
             "scene",
             "bodies",
             "thr",
@@ -390,7 +400,7 @@ mod imp {
             let cell = |(lo, med): (f64, f64)| format!("{lo:.3} / {med:.3}");
             let _ = writeln!(
                 out,
-                "{:<16} {:>6} {:>3} {:>5} {:>17} {:>17} {:>17} {:>12.2} {:>13.2}",
+                "{:<16} {:>6} {:>3} {:>5} {:>17} {:>17} {:>17} {:>13} {:>13}",
                 l.scene,
                 l.bodies,
                 l.threads,
@@ -398,8 +408,8 @@ mod imp {
                 cell(l.ms[0]),
                 cell(l.ms[1]),
                 cell(l.ms[2]),
-                l.ratio(1),
-                l.ratio(2)
+                l.ratio_cell(1),
+                l.ratio_cell(2)
             );
         }
         out
@@ -408,12 +418,13 @@ mod imp {
     fn summary_csv(lines: &[Line], repeats: u32) -> String {
         let mut out = String::from(
             "scene,bodies,threads,steps,repeats,tumble_min_ms,tumble_median_ms,box2d_min_ms,\
-             box2d_median_ms,rapier_min_ms,rapier_median_ms,tumble_over_box2d,tumble_over_rapier\n",
+             box2d_median_ms,rapier_min_ms,rapier_median_ms,tumble_over_box2d,tumble_over_rapier,\
+             tumble_over_box2d_min,tumble_over_rapier_min\n",
         );
         for l in lines {
             let _ = writeln!(
                 out,
-                "{},{},{},{},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.4},{:.4}",
+                "{},{},{},{},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.4},{:.4},{:.4},{:.4}",
                 csv_field(&l.scene),
                 l.bodies,
                 l.threads,
@@ -426,7 +437,9 @@ mod imp {
                 l.ms[2].0,
                 l.ms[2].1,
                 l.ratio(1),
-                l.ratio(2)
+                l.ratio(2),
+                l.ratio_min(1),
+                l.ratio_min(2)
             );
         }
         out
@@ -552,6 +565,7 @@ mod imp {
         warnings: &[String],
         args: &CompareArgs,
         threads: &[usize],
+        load: &str,
     ) -> String {
         let mut md = String::new();
         let _ = writeln!(md, "# tumble against Box2D v3 and Rapier2D\n");
@@ -562,8 +576,9 @@ mod imp {
              gravity, dt and substeps) and runs one after another in one process; only each \
              engine's step call is inside the clock (world building is not). A run times every \
              step from the first; the table gives the minimum and the median, over {} runs, of a \
-             run's mean ms per step. Ratio = tumble's median ÷ the peer's median (below 1: tumble \
-             is faster).\n",
+             run's mean ms per step. Ratio = tumble ÷ the peer, of the medians (of the minimums in \
+             brackets); below 1, tumble is faster. The machine is shared with other work, so a \
+             run can be slowed by it: the minimum is the least disturbed number.\n",
             args.repeats
         );
         let _ = writeln!(md, "| | |\n|---|---|");
@@ -578,7 +593,12 @@ mod imp {
                 .collect::<Vec<_>>()
                 .join(", ")
         );
-        let _ = writeln!(md, "| tumble revision | `{}` |", machine::git_revision());
+        let _ = writeln!(
+            md,
+            "| tumble revision (built from) | `{}` |",
+            machine::git_revision()
+        );
+        let _ = writeln!(md, "| load average (1, 5, 15 min) | {load} |");
         let _ = writeln!(md, "| rustc | `{}` |", machine::rustc_version());
         let _ = writeln!(
             md,
@@ -622,7 +642,7 @@ mod imp {
             let cell = |(lo, med): (f64, f64)| format!("{lo:.3} / {med:.3}");
             let _ = writeln!(
                 md,
-                "| {} | {} | {} | {} | {} | {} | {} | {:.2} | {:.2} |",
+                "| {} | {} | {} | {} | {} | {} | {} | {} | {} |",
                 l.scene,
                 l.bodies,
                 l.threads,
@@ -630,8 +650,8 @@ mod imp {
                 cell(l.ms[0]),
                 cell(l.ms[1]),
                 cell(l.ms[2]),
-                l.ratio(1),
-                l.ratio(2)
+                l.ratio_cell(1),
+                l.ratio_cell(2)
             );
         }
         let _ = writeln!(md);

@@ -1,7 +1,5 @@
 //! What a benchmark report says about the machine and the build it ran on.
 
-use std::process::Command;
-
 /// The CPU's model name from `/proc/cpuinfo` ("unknown" elsewhere).
 pub fn cpu_model() -> String {
     std::fs::read_to_string("/proc/cpuinfo")
@@ -28,30 +26,23 @@ pub fn cpu_has_avx2() -> bool {
     }
 }
 
+/// The first three fields of `/proc/loadavg` ("unknown" elsewhere): how busy the machine was.
+pub fn load_average() -> String {
+    std::fs::read_to_string("/proc/loadavg")
+        .ok()
+        .map(|t| t.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
+        .unwrap_or_else(|| "unknown".into())
+}
+
 /// Logical cores the process may use.
 pub fn cores() -> usize {
     tumble_physics::default_thread_count()
 }
 
-/// `git rev-parse --short HEAD` in the current directory, with `-dirty` when the work tree has
-/// changes; "unknown" outside a repository.
-pub fn git_revision() -> String {
-    let run = |args: &[&str]| {
-        Command::new("git")
-            .args(args)
-            .output()
-            .ok()
-            .filter(|o| o.status.success())
-            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
-    };
-    match run(&["rev-parse", "--short", "HEAD"]) {
-        Some(rev) => {
-            let dirty = run(&["status", "--porcelain", "--untracked-files=no"])
-                .is_some_and(|s| !s.is_empty());
-            if dirty { format!("{rev}-dirty") } else { rev }
-        }
-        None => "unknown".into(),
-    }
+/// The revision of the source this binary was built from (`git rev-parse --short HEAD` at
+/// build time, `-dirty` when tracked files differed from it); "unknown" outside a repository.
+pub fn git_revision() -> &'static str {
+    env!("TUMBLE_BENCH_GIT_REVISION")
 }
 
 /// The compiler that built this binary.

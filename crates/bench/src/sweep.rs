@@ -41,7 +41,7 @@ pub struct SweepArgs {
     #[arg(long, value_name = "R", default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..))]
     pub repeats: u32,
     /// Timed steps per run.
-    #[arg(long, value_name = "N", default_value_t = 150, value_parser = clap::value_parser!(u32).range(1..))]
+    #[arg(long, value_name = "N", default_value_t = 300, value_parser = clap::value_parser!(u32).range(1..))]
     pub steps: u32,
     /// Untimed steps first, so the first contacts, the pool's threads and the allocations are
     /// not in the numbers.
@@ -98,6 +98,7 @@ pub fn run(args: &SweepArgs) -> Result<()> {
     let mut body_threads = vec![1, max_threads];
     body_threads.dedup();
 
+    let load_before = crate::machine::load_average();
     let mut jobs = Vec::new();
     for name in &args.scenes {
         let scene = scenes::resolve(name)?;
@@ -170,7 +171,11 @@ pub fn run(args: &SweepArgs) -> Result<()> {
     written.extend(write_charts(&args.out_dir, &rows, &body_threads)?);
     let table = table(&rows, args);
     let md = args.out_dir.join("sweep.md");
-    fs::write(&md, markdown(&table, &written, args))
+    let load = format!(
+        "{load_before} before, {} after",
+        crate::machine::load_average()
+    );
+    fs::write(&md, markdown(&table, &written, args, &load))
         .with_context(|| format!("cannot write {}", md.display()))?;
     written.push(md);
     print!("{table}");
@@ -391,7 +396,7 @@ fn table(rows: &[Row], args: &SweepArgs) -> String {
 }
 
 /// sweep.md: the machine, the table and the charts.
-fn markdown(table: &str, files: &[PathBuf], args: &SweepArgs) -> String {
+fn markdown(table: &str, files: &[PathBuf], args: &SweepArgs, load: &str) -> String {
     use crate::machine;
     let mut md = String::from("# tumble: step time against threads and body count\n\n");
     let _ = writeln!(
@@ -406,7 +411,12 @@ fn markdown(table: &str, files: &[PathBuf], args: &SweepArgs) -> String {
     let _ = writeln!(md, "| | |\n|---|---|");
     let _ = writeln!(md, "| CPU | {} |", machine::cpu_model());
     let _ = writeln!(md, "| cores | {} |", machine::cores());
-    let _ = writeln!(md, "| tumble revision | `{}` |", machine::git_revision());
+    let _ = writeln!(
+        md,
+        "| tumble revision (built from) | `{}` |",
+        machine::git_revision()
+    );
+    let _ = writeln!(md, "| load average (1, 5, 15 min) | {load} |");
     let _ = writeln!(md, "| rustc | `{}` |", machine::rustc_version());
     let _ = writeln!(
         md,
@@ -421,10 +431,10 @@ fn markdown(table: &str, files: &[PathBuf], args: &SweepArgs) -> String {
     let _ = writeln!(md, "| command | `tumble-bench {}` |\n", command.join(" "));
     let _ = writeln!(md, "```text{table}```\n");
     for f in files {
-        if f.extension().is_some_and(|e| e == "svg") {
-            if let Some(name) = f.file_name().and_then(|n| n.to_str()) {
-                let _ = writeln!(md, "![{name}]({name})\n");
-            }
+        if f.extension().is_some_and(|e| e == "svg")
+            && let Some(name) = f.file_name().and_then(|n| n.to_str())
+        {
+            let _ = writeln!(md, "![{name}]({name})\n");
         }
     }
     md

@@ -4,6 +4,8 @@
 //! what a step needs first: a rustup component, or Debian packages. A task is a list of
 //! [`Step`]s; to add a check, add a step to the list (with the packages it needs).
 
+mod png;
+
 use std::env;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode, Stdio};
@@ -12,8 +14,34 @@ use std::time::Instant;
 const USAGE: &str = "usage: cargo xtask TASK
 
 tasks:
-  test    cargo fmt --check, cargo clippy -D warnings, cargo test: every check CI runs
-          (installs the rustfmt and clippy components when they are missing)";
+  test    cargo fmt --check, cargo clippy -D warnings, cargo test, the viewer's offscreen
+          rendering test, the viewer in a real window under Xvfb, and the peer comparison
+          tests: every check CI runs (installs the rustfmt and clippy components and the
+          Debian packages the steps need when they are missing)";
+
+/// What the viewer's steps need: Mesa's software Vulkan (lavapipe) and GL, so wgpu finds an
+/// adapter with no GPU.
+const MESA: &[&str] = &["mesa-vulkan-drivers", "libvulkan1"];
+
+/// What a real window needs without a display: Xvfb, Mesa, and the X11/Wayland client
+/// libraries winit loads at run time.
+const XVFB_WINDOW: &[&str] = &[
+    "xvfb",
+    "xauth",
+    "mesa-vulkan-drivers",
+    "libgl1-mesa-dri",
+    "libegl1",
+    "libegl-mesa0",
+    "libgles2",
+    "libvulkan1",
+    "libxkbcommon-x11-0",
+    "libxcursor1",
+    "libxrandr2",
+    "libxi6",
+    "libx11-xcb1",
+    "libwayland-client0",
+    "libwayland-egl1",
+];
 
 fn main() -> ExitCode {
     let args: Vec<String> = env::args().skip(1).collect();
@@ -71,12 +99,15 @@ const CLIPPY: Component = Component {
 enum Action {
     /// `cargo` (the one running xtask) with these arguments.
     Cargo(&'static [&'static str]),
+    /// A check written here, with what it does in a few words.
+    Check(&'static str, fn(&Path) -> Result<(), String>),
 }
 
 impl Action {
     fn describe(&self) -> String {
         match self {
             Action::Cargo(args) => format!("cargo {}", args.join(" ")),
+            Action::Check(what, _) => (*what).to_string(),
         }
     }
 
@@ -85,8 +116,19 @@ impl Action {
             Action::Cargo(args) => {
                 let mut cmd = Command::new(cargo());
                 cmd.args(*args).current_dir(root);
+                // Mesa (the offscreen rendering tests) wants a runtime directory; a private
+                // one keeps it quiet when the environment has none, as in CI.
+                if env::var_os("XDG_RUNTIME_DIR").is_none() {
+                    let runtime = env::temp_dir()
+                        .join(format!("tumble-xtask-runtime-{}", std::process::id()));
+                    if std::fs::create_dir_all(&runtime).is_ok() {
+                        set_private(&runtime);
+                        cmd.env("XDG_RUNTIME_DIR", runtime);
+                    }
+                }
                 run_status(&mut cmd, &self.describe())
             }
+            Action::Check(_, check) => check(root),
         }
     }
 }
@@ -115,12 +157,160 @@ fn test_steps() -> Vec<Step> {
             ]),
         },
         Step {
+            // The viewer is tested in release below, with the build the window step runs:
+            // building wgpu and egui in the dev profile too would cost CI minutes.
             name: "test",
             debian_packages: &[],
             components: &[],
-            action: Action::Cargo(&["test", "--workspace", "-j2"]),
+            action: Action::Cargo(&["test", "--workspace", "--exclude", "tumble", "-j2"]),
+        },
+        Step {
+            // Unit tests (states, input routing, fixed step, layouts) and offscreen rendering
+            // on a real wgpu device (Mesa's lavapipe without a GPU), compared with a
+            // reference image.
+            name: "viewer",
+            debian_packages: MESA,
+            components: &[],
+            action: Action::Cargo(&["test", "--release", "-p", "tumble", "-j2"]),
+        },
+        Step {
+            name: "viewer-window",
+            debian_packages: XVFB_WINDOW,
+            components: &[],
+            action: Action::Check(
+                "tumble --scene pyramid --frames 300 --threads 2 in a window under Xvfb; \
+                 check its screenshot and stats",
+                viewer_window,
+            ),
+        },
+        Step {
+            name: "peers",
+            debian_packages: &[],
+            components: &[],
+            action: Action::Cargo(&["test", "-p", "tumble-bench", "--features", "peers", "-j2"]),
         },
     ]
+}
+
+/// Frames the scripted window run draws.
+const WINDOW_FRAMES: u64 = 300;
+
+/// Builds the viewer in release, runs it in a real window under Xvfb for
+/// [`WINDOW_FRAMES`] frames with a screenshot and stats, and checks both: the stats report
+/// every frame and some steps, and the screenshot is a real picture (many colours, and the
+/// saturated colours of bodies, not only the greys of the background and the panels).
+fn viewer_window(root: &Path) -> Result<(), String> {
+    let mut build = Command::new(cargo());
+    build
+        .args(["build", "--release", "-p", "tumble", "-j2"])
+        .current_dir(root);
+    run_status(&mut build, "cargo build --release -p tumble -j2")?;
+
+    let dir = env::temp_dir().join(format!("tumble-xtask-window-{}", std::process::id()));
+    let runtime = dir.join("runtime");
+    std::fs::create_dir_all(&runtime)
+        .map_err(|e| format!("cannot create {}: {e}", runtime.display()))?;
+    set_private(&runtime);
+    let shot = dir.join("shot.png");
+    let stats = dir.join("stats.json");
+    let binary = root.join("target/release/tumble");
+    let frames = WINDOW_FRAMES.to_string();
+    let mut run = Command::new("xvfb-run");
+    run.args(["-a", "-s", "-screen 0 1280x800x24"])
+        .arg(&binary)
+        .args(["--scene", "pyramid", "--frames", &frames, "--threads", "2"])
+        .arg("--screenshot")
+        .arg(&shot)
+        .arg("--stats")
+        .arg(&stats)
+        .current_dir(root)
+        // Mesa and winit look for a runtime directory; a private one keeps them quiet.
+        .env("XDG_RUNTIME_DIR", &runtime)
+        // The scripted run must not read or write the user's settings either way.
+        .env("TUMBLE_CONFIG_DIR", dir.join("config"));
+    let started = Instant::now();
+    run_status(&mut run, "xvfb-run ... tumble --scene pyramid --frames 300")?;
+    let secs = started.elapsed().as_secs_f64();
+
+    let text = std::fs::read_to_string(&stats)
+        .map_err(|e| format!("no stats at {}: {e}", stats.display()))?;
+    let frames_seen = json_number(&text, "frames")?;
+    let steps = json_number(&text, "steps")?;
+    let frame_ms = json_number(&text, "frame_ms_mean").unwrap_or(0.0);
+    if frames_seen != WINDOW_FRAMES as f64 {
+        return Err(format!(
+            "stats report {frames_seen} frames, not {WINDOW_FRAMES}: {text}"
+        ));
+    }
+    if steps <= 0.0 {
+        return Err(format!("stats report no physics steps: {text}"));
+    }
+    for key in ["bodies", "threads", "step_ms_mean"] {
+        json_number(&text, key)?;
+    }
+
+    let bytes =
+        std::fs::read(&shot).map_err(|e| format!("no screenshot at {}: {e}", shot.display()))?;
+    let image = png::decode(&bytes).map_err(|e| format!("{}: {e}", shot.display()))?;
+    let mut colours = std::collections::HashSet::new();
+    let mut saturated = 0usize;
+    for p in image.rgba.chunks_exact(4) {
+        colours.insert([p[0], p[1], p[2]]);
+        let (max, min) = (p[0].max(p[1]).max(p[2]), p[0].min(p[1]).min(p[2]));
+        if max - min > 60 {
+            saturated += 1;
+        }
+    }
+    println!(
+        "window: {frames_seen} frames, {steps} steps, {frame_ms:.1} ms per frame, {secs:.1} s; \
+         screenshot {}x{}, {} colours, {saturated} body-coloured pixels",
+        image.width,
+        image.height,
+        colours.len()
+    );
+    if (image.width, image.height) != (1280, 800) {
+        return Err(format!(
+            "screenshot is {}x{}, not the 1280x800 window",
+            image.width, image.height
+        ));
+    }
+    if colours.len() < 16 {
+        return Err(format!(
+            "screenshot looks blank: {} distinct colours",
+            colours.len()
+        ));
+    }
+    if saturated < 500 {
+        return Err(format!(
+            "screenshot shows no bodies: {saturated} pixels of body colours"
+        ));
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    Ok(())
+}
+
+/// Makes a directory private to its owner (XDG requires it of a runtime directory).
+fn set_private(dir: &Path) {
+    let _ = Command::new("chmod").arg("700").arg(dir).status();
+}
+
+/// The number after `"key":` in a flat JSON object.
+fn json_number(text: &str, key: &str) -> Result<f64, String> {
+    let pattern = format!("\"{key}\"");
+    let start = text
+        .find(&pattern)
+        .ok_or_else(|| format!("stats have no \"{key}\": {text}"))?
+        + pattern.len();
+    let rest = text[start..]
+        .trim_start()
+        .trim_start_matches(':')
+        .trim_start();
+    let end = rest
+        .find(|c: char| !(c.is_ascii_digit() || "+-.eE".contains(c)))
+        .unwrap_or(rest.len());
+    rest[..end]
+        .parse()
+        .map_err(|_| format!("stats' \"{key}\" is not a number: {text}"))
 }
 
 /// Runs every step (a failed step does not stop the later ones, so one run shows every

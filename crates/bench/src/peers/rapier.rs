@@ -37,8 +37,10 @@ impl Rapier {
             .thread_name(|i| format!("rapier-bench-{i}"))
             .build()
             .context("cannot start Rapier's thread pool")?;
-        let mut world = PhysicsWorld::default();
-        world.gravity = Vector::new(scene.gravity[0], scene.gravity[1]);
+        let mut world = PhysicsWorld {
+            gravity: Vector::new(scene.gravity[0], scene.gravity[1]),
+            ..PhysicsWorld::default()
+        };
         let params = &mut world.integration_parameters;
         params.dt = scene.dt;
         params.num_solver_iterations = scene.substeps as usize;

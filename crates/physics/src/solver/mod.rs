@@ -284,13 +284,12 @@ impl Solver {
             wide_ranges: &self.wide_ranges,
             any_restitution,
         };
-        let caps = if workers == 1 {
+        if workers == 1 {
             let states = BodyStates::exclusive(states);
             run_worker(&stages, &states, motion, step, 0, 1, None)
         } else {
             run_parallel(&stages, states, motion, step, workers)
-        };
-        caps
+        }
     }
 }
 

@@ -1,0 +1,25 @@
+//! tumble's desktop viewer: a winit window, our own wgpu pipelines for the bodies, egui for the
+//! panels, and a stack of states (intro, main menu, simulation, pause) under a global state
+//! that sees every input first.
+//!
+//! The crate is a library plus a thin binary (`main.rs`), so that the state machine, the
+//! fixed-step clock and the offscreen renderer are testable without a window. Nothing here
+//! knows about the platform except [`app::run`] (the event loop) and the thread-pool setup.
+//!
+//! A frame, in order: input events are routed (global state, then egui, then the state on
+//! top) → the top state updates (the simulation steps its fixed-step clock) → egui builds the
+//! UI → the scene renderer uploads instances → one render pass draws the world (one draw call
+//! per shape kind, one for debug lines) and then egui on top.
+
+pub mod app;
+pub mod camera;
+pub mod cli;
+pub mod input;
+pub mod render;
+pub mod settings;
+pub mod sim;
+pub mod state;
+pub mod ui;
+
+/// The scene the intro and the main menu run in the background, and the menu's default pick.
+pub const DEFAULT_SCENE: &str = "falling_circles";

@@ -1,0 +1,338 @@
+//! The viewer's states and the stack that runs them.
+//!
+//! A state owns its data (the intro and the menu own a background simulation, the
+//! simulation state owns its world and camera, the pause state owns nothing) and answers
+//! every call with a [`Transition`]: an explicit value saying what comes next, never a flag
+//! someone else has to notice. The [`StateMachine`] applies transitions, keeps the stack, and
+//! routes input: the [`Global`] state first, then egui, then the state on top.
+//!
+//! Only the state on top updates and gets input; a state marked as an overlay (pause) is drawn
+//! over the state below it, which stays visible and frozen.
+
+pub mod intro;
+pub mod main_menu;
+pub mod paused;
+pub mod simulation;
+
+use glam::Vec2;
+
+use crate::camera::Camera;
+use crate::input::{Global, GlobalOutcome, InputEvent};
+use crate::settings::Settings;
+use crate::sim::Sim;
+
+pub use intro::Intro;
+pub use main_menu::MainMenu;
+pub use paused::Paused;
+pub use simulation::Simulation;
+
+/// Which state a state is (for titles, tests and stats).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StateKind {
+    /// The animated title.
+    Intro,
+    /// The scene picker.
+    MainMenu,
+    /// Physics and drawing.
+    Simulation,
+    /// Drawn over the frozen simulation.
+    Paused,
+}
+
+/// What a state asks for next.
+pub enum Transition {
+    /// Stay.
+    None,
+    /// Put a state on top (the current one stays below, frozen).
+    Push(Box<dyn State>),
+    /// Leave this state; the one below resumes.
+    Pop,
+    /// Leave this state and hand the one below a signal.
+    PopWith(Signal),
+    /// Swap this state for another.
+    Replace(Box<dyn State>),
+    /// Empty the stack and start over from this state.
+    Reset(Box<dyn State>),
+    /// Leave the app.
+    Quit,
+}
+
+impl std::fmt::Debug for Transition {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Transition::None => write!(f, "None"),
+            Transition::Push(s) => write!(f, "Push({:?})", s.kind()),
+            Transition::Pop => write!(f, "Pop"),
+            Transition::PopWith(s) => write!(f, "PopWith({s:?})"),
+            Transition::Replace(s) => write!(f, "Replace({:?})", s.kind()),
+            Transition::Reset(s) => write!(f, "Reset({:?})", s.kind()),
+            Transition::Quit => write!(f, "Quit"),
+        }
+    }
+}
+
+/// A message a state leaving hands to the state below.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Signal {
+    /// Rebuild the world from its scene.
+    Restart,
+}
+
+/// What the renderer draws for a state: a world seen through a camera.
+#[derive(Clone, Copy)]
+pub struct View<'a> {
+    /// The simulation to draw.
+    pub sim: &'a Sim,
+    /// Where to look.
+    pub camera: &'a Camera,
+    /// Whether the debug-draw settings apply (not for the intro's and menu's backdrop).
+    pub debug: bool,
+    /// How much to dim the world (0: not at all, 1: black), for backdrops.
+    pub dim: f32,
+}
+
+/// App-wide data every state may read and change: settings and the global toggles.
+#[derive(Clone, Debug)]
+pub struct Shared {
+    /// Persisted settings.
+    pub settings: Settings,
+    /// F1: all UI shown.
+    pub ui_visible: bool,
+    /// H: the help window.
+    pub help_visible: bool,
+    /// F12 or P: save the next frame as a PNG.
+    pub screenshot_requested: bool,
+    /// The window's size in physical pixels.
+    pub viewport: Vec2,
+    /// The part of the window not covered by panels (physical pixels: min, max), where
+    /// "fit scene" puts the world.
+    pub view_area: (Vec2, Vec2),
+    /// Physical pixels per egui point.
+    pub pixels_per_point: f32,
+    /// Frames per second, smoothed.
+    pub fps: f64,
+    /// The graphics backend, as wgpu names it ("Vulkan", "Gl", ...).
+    pub backend: String,
+    /// A short message shown for a few seconds (e.g. where a screenshot went).
+    pub toast: Option<(String, f64)>,
+    /// Seconds since the app started.
+    pub time: f64,
+}
+
+impl Shared {
+    /// Defaults for a window of `viewport` physical pixels.
+    pub fn new(settings: Settings, viewport: Vec2) -> Self {
+        Self {
+            settings,
+            ui_visible: true,
+            help_visible: false,
+            screenshot_requested: false,
+            viewport,
+            view_area: (Vec2::ZERO, viewport),
+            pixels_per_point: 1.0,
+            fps: 0.0,
+            backend: String::new(),
+            toast: None,
+            time: 0.0,
+        }
+    }
+
+    /// Shows `text` for a few seconds.
+    pub fn toast(&mut self, text: impl Into<String>) {
+        self.toast = Some((text.into(), self.time + 4.0));
+    }
+}
+
+/// One state of the viewer. Every method has a default that does nothing.
+pub trait State {
+    /// Which state this is.
+    fn kind(&self) -> StateKind;
+
+    /// Escape was pressed (the global state translates it): what "back" means here.
+    fn on_back(&mut self, _shared: &mut Shared) -> Transition {
+        Transition::None
+    }
+
+    /// Input for this state: only when it is on top, and only input that neither the global
+    /// state nor egui took.
+    fn on_input(&mut self, _event: &InputEvent, _shared: &mut Shared) -> Transition {
+        Transition::None
+    }
+
+    /// One frame passed (`frame_seconds` of real time); only the state on top updates.
+    fn update(&mut self, _frame_seconds: f64, _shared: &mut Shared) -> Transition {
+        Transition::None
+    }
+
+    /// The state's UI (egui), drawn when it is on top.
+    fn ui(&mut self, _ui: &mut egui::Ui, _shared: &mut Shared) -> Transition {
+        Transition::None
+    }
+
+    /// A signal from the state above as it left.
+    fn on_signal(&mut self, _signal: Signal, _shared: &mut Shared) {}
+
+    /// Drawn over the state below it (which stays visible, frozen).
+    fn is_overlay(&self) -> bool {
+        false
+    }
+
+    /// The world this state shows, if any.
+    fn view(&self) -> Option<View<'_>> {
+        None
+    }
+
+    /// The simulation this state runs, if any (for `--stats`).
+    fn sim(&self) -> Option<&Sim> {
+        None
+    }
+}
+
+/// What egui wants, asked before each event is routed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct EguiWants {
+    /// The pointer is over egui or egui is dragging something.
+    pub pointer: bool,
+    /// A text field has keyboard focus.
+    pub keyboard: bool,
+}
+
+/// Who got an input event.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Routed {
+    /// The global state.
+    Global,
+    /// egui (the state on top never saw it).
+    Egui,
+    /// The state on top.
+    State,
+    /// Nobody: the stack is empty.
+    Nobody,
+}
+
+/// The stack of states with the global state beside it.
+pub struct StateMachine {
+    stack: Vec<Box<dyn State>>,
+    /// The global state (always active).
+    pub global: Global,
+    quit: bool,
+}
+
+impl StateMachine {
+    /// A machine starting in `first`.
+    pub fn new(first: Box<dyn State>) -> Self {
+        Self {
+            stack: vec![first],
+            global: Global::default(),
+            quit: false,
+        }
+    }
+
+    /// The states from bottom to top.
+    pub fn kinds(&self) -> Vec<StateKind> {
+        self.stack.iter().map(|s| s.kind()).collect()
+    }
+
+    /// The state on top.
+    pub fn top_kind(&self) -> Option<StateKind> {
+        self.stack.last().map(|s| s.kind())
+    }
+
+    /// Whether a state asked to quit (or the stack emptied).
+    pub fn should_quit(&self) -> bool {
+        self.quit || self.stack.is_empty()
+    }
+
+    /// Routes one input event: the global state sees it first; then, unless egui wants that
+    /// kind of input (the keyboard while a text field has focus, the pointer over a panel),
+    /// the state on top. A button release always reaches the state, so a drag that began in
+    /// the world ends even when the pointer is let go over a panel.
+    pub fn input(&mut self, event: InputEvent, egui: EguiWants, shared: &mut Shared) -> Routed {
+        match self.global.handle(&event, egui.keyboard, shared) {
+            GlobalOutcome::Consumed => return Routed::Global,
+            GlobalOutcome::Back => {
+                if let Some(top) = self.stack.last_mut() {
+                    let t = top.on_back(shared);
+                    self.apply(t, shared);
+                }
+                return Routed::Global;
+            }
+            GlobalOutcome::Pass => {}
+        }
+        let egui_wants = match event {
+            InputEvent::Key { .. } => egui.keyboard,
+            InputEvent::Button { pressed: false, .. } => false,
+            _ => egui.pointer,
+        };
+        if egui_wants {
+            return Routed::Egui;
+        }
+        let Some(top) = self.stack.last_mut() else {
+            return Routed::Nobody;
+        };
+        let t = top.on_input(&event, shared);
+        self.apply(t, shared);
+        Routed::State
+    }
+
+    /// One frame: the state on top updates.
+    pub fn update(&mut self, frame_seconds: f64, shared: &mut Shared) {
+        if let Some(top) = self.stack.last_mut() {
+            let t = top.update(frame_seconds, shared);
+            self.apply(t, shared);
+        }
+    }
+
+    /// The UI of the state on top, then the global UI (help, messages).
+    pub fn ui(&mut self, ui: &mut egui::Ui, shared: &mut Shared) {
+        if let Some(top) = self.stack.last_mut() {
+            let t = top.ui(ui, shared);
+            self.apply(t, shared);
+        }
+        crate::ui::global_ui(ui, shared, self.top_kind());
+    }
+
+    /// The world to draw: that of the highest state that shows one (an overlay shows none,
+    /// so the state under it is drawn).
+    pub fn view(&self) -> Option<View<'_>> {
+        self.stack.iter().rev().find_map(|s| s.view())
+    }
+
+    /// The simulation of the highest simulation state, for `--stats`.
+    pub fn sim(&self) -> Option<&Sim> {
+        self.stack
+            .iter()
+            .rev()
+            .filter(|s| s.kind() == StateKind::Simulation)
+            .find_map(|s| s.sim())
+    }
+
+    /// Applies a transition.
+    pub fn apply(&mut self, transition: Transition, shared: &mut Shared) {
+        match transition {
+            Transition::None => {}
+            Transition::Push(state) => self.stack.push(state),
+            Transition::Pop => {
+                self.stack.pop();
+            }
+            Transition::PopWith(signal) => {
+                self.stack.pop();
+                if let Some(top) = self.stack.last_mut() {
+                    top.on_signal(signal, shared);
+                }
+            }
+            Transition::Replace(state) => {
+                self.stack.pop();
+                self.stack.push(state);
+            }
+            Transition::Reset(state) => {
+                self.stack.clear();
+                self.stack.push(state);
+            }
+            Transition::Quit => self.quit = true,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

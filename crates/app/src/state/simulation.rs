@@ -1,0 +1,167 @@
+//! The simulation state: the world stepping on its fixed clock, drawn through a camera the
+//! user pans (right drag) and zooms (wheel), with a mouse spring on the left button and the
+//! control and profile panels.
+
+use glam::Vec2;
+
+use super::{Paused, Shared, Signal, State, StateKind, Transition, View};
+use crate::camera::{Camera, world_bounds};
+use crate::input::{Button, InputEvent, Key};
+use crate::sim::Sim;
+use crate::ui::profiler::Sweep;
+
+/// The simulation state.
+pub struct Simulation {
+    /// The running simulation.
+    pub sim: Sim,
+    /// The camera.
+    pub camera: Camera,
+    /// Frames left in which to frame the scene (the panel's width is known after one frame).
+    pub(crate) fit_frames: u8,
+    /// Right-button panning in progress.
+    pub(crate) panning: bool,
+    /// The thread sweep (runs on its own thread).
+    pub(crate) sweep: Sweep,
+    /// The scenes the panel's picker offers.
+    pub(crate) entries: Vec<super::main_menu::SceneEntry>,
+    /// The last scene-loading error, shown in the panel.
+    pub(crate) error: Option<String>,
+}
+
+impl Simulation {
+    /// A simulation state for `sim`.
+    pub fn new(sim: Sim, shared: &Shared) -> Self {
+        Self {
+            sim,
+            camera: Camera::new(Vec2::ZERO, 20.0, shared.viewport),
+            fit_frames: 2,
+            panning: false,
+            sweep: Sweep::default(),
+            entries: super::main_menu::scene_entries(),
+            error: None,
+        }
+    }
+
+    /// Frames the whole scene in the part of the window the panels leave free.
+    pub fn fit(&mut self, shared: &Shared) {
+        self.camera.viewport = shared.viewport;
+        self.camera
+            .fit(world_bounds(&self.sim.world), shared.view_area);
+    }
+
+    /// Swaps in another scene (from the panel's picker), keeping threads and settings.
+    pub fn load(&mut self, source: &str, shared: &mut Shared) {
+        let threads = self.sim.world.thread_count();
+        match Sim::load(source, threads) {
+            Ok(sim) => {
+                self.sim = sim;
+                self.fit_frames = 2;
+                self.error = None;
+                shared.settings.scene = source.to_string();
+            }
+            Err(e) => self.error = Some(format!("{e:#}")),
+        }
+    }
+
+    /// Play or pause.
+    pub fn toggle_running(&mut self) {
+        self.sim.running = !self.sim.running;
+    }
+
+    /// One step, pausing first.
+    pub fn step_once(&mut self) {
+        self.sim.running = false;
+        self.sim.single_step();
+    }
+}
+
+impl State for Simulation {
+    fn kind(&self) -> StateKind {
+        StateKind::Simulation
+    }
+
+    fn on_back(&mut self, _shared: &mut Shared) -> Transition {
+        self.sim.drag = None;
+        self.panning = false;
+        Transition::Push(Box::new(Paused::new()))
+    }
+
+    fn on_signal(&mut self, signal: Signal, _shared: &mut Shared) {
+        match signal {
+            Signal::Restart => self.sim.restart(),
+        }
+    }
+
+    fn on_input(&mut self, event: &InputEvent, shared: &mut Shared) -> Transition {
+        match *event {
+            InputEvent::Key {
+                key,
+                pressed: true,
+                repeat,
+            } => match key {
+                Key::Space if !repeat => self.toggle_running(),
+                Key::S => self.step_once(),
+                Key::R if !repeat => self.sim.restart(),
+                Key::F if !repeat => self.fit(shared),
+                _ => {}
+            },
+            InputEvent::Button {
+                button,
+                pressed,
+                position,
+            } => match button {
+                Button::Left if pressed => {
+                    let point = self.camera.screen_to_world(position);
+                    self.sim.grab(point);
+                }
+                Button::Left => self.sim.drag = None,
+                Button::Right | Button::Middle => self.panning = pressed,
+                Button::Other => {}
+            },
+            InputEvent::PointerMoved { position, delta } => {
+                if self.panning {
+                    self.camera.pan_pixels(delta);
+                }
+                if let Some(drag) = &mut self.sim.drag {
+                    drag.target = self.camera.screen_to_world(position);
+                }
+            }
+            InputEvent::Wheel { lines, position } => {
+                self.camera.zoom_at(position, 1.15f32.powf(lines));
+            }
+            InputEvent::Key { .. } => {}
+        }
+        Transition::None
+    }
+
+    fn update(&mut self, frame_seconds: f64, shared: &mut Shared) -> Transition {
+        self.camera.viewport = shared.viewport;
+        if self.fit_frames > 0 {
+            self.fit(shared);
+            self.fit_frames -= 1;
+        }
+        self.sweep.poll();
+        // The sweep measures the step on every core: the live world waits meanwhile.
+        if !self.sweep.is_running() {
+            self.sim.advance(frame_seconds);
+        }
+        Transition::None
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, shared: &mut Shared) -> Transition {
+        crate::ui::controls::simulation_ui(ui, self, shared)
+    }
+
+    fn view(&self) -> Option<View<'_>> {
+        Some(View {
+            sim: &self.sim,
+            camera: &self.camera,
+            debug: true,
+            dim: 0.0,
+        })
+    }
+
+    fn sim(&self) -> Option<&Sim> {
+        Some(&self.sim)
+    }
+}

@@ -1,0 +1,259 @@
+//! Transitions and input routing, with the real states and no window.
+
+use glam::Vec2;
+
+use super::*;
+use crate::input::{Button, InputEvent, Key};
+use crate::settings::Settings;
+
+fn shared() -> Shared {
+    let mut s = Shared::new(Settings::default(), Vec2::new(800.0, 600.0));
+    s.settings.threads = 1;
+    s
+}
+
+const NO_EGUI: EguiWants = EguiWants {
+    pointer: false,
+    keyboard: false,
+};
+const EGUI_KEYBOARD: EguiWants = EguiWants {
+    pointer: false,
+    keyboard: true,
+};
+const EGUI_POINTER: EguiWants = EguiWants {
+    pointer: true,
+    keyboard: false,
+};
+
+fn press(key: Key) -> InputEvent {
+    InputEvent::press(key)
+}
+
+fn simulation(shared: &Shared) -> StateMachine {
+    let sim = crate::sim::Sim::load("pyramid", 1).unwrap();
+    StateMachine::new(Box::new(Simulation::new(sim, shared)))
+}
+
+fn steps(machine: &StateMachine) -> u64 {
+    machine.sim().expect("a simulation state").steps
+}
+
+#[test]
+fn intro_skips_to_the_menu_on_any_key_or_click_or_after_a_while() {
+    let mut sh = shared();
+    let mut m = StateMachine::new(Box::new(Intro::new(&sh)));
+    assert_eq!(m.top_kind(), Some(StateKind::Intro));
+    assert_eq!(m.input(press(Key::Other), NO_EGUI, &mut sh), Routed::State);
+    assert_eq!(m.kinds(), vec![StateKind::MainMenu]);
+
+    let mut m = StateMachine::new(Box::new(Intro::new(&sh)));
+    let click = InputEvent::Button {
+        button: Button::Left,
+        pressed: true,
+        position: Vec2::new(10.0, 10.0),
+    };
+    m.input(click, NO_EGUI, &mut sh);
+    assert_eq!(m.kinds(), vec![StateKind::MainMenu]);
+
+    let mut m = StateMachine::new(Box::new(Intro::new(&sh)));
+    let mut t = 0.0;
+    while t < intro::INTRO_SECONDS + 0.1 {
+        m.update(1.0 / 60.0, &mut sh);
+        t += 1.0 / 60.0;
+    }
+    assert_eq!(m.kinds(), vec![StateKind::MainMenu]);
+    // The menu kept the intro's simulation running behind it.
+    assert!(m.view().is_some());
+}
+
+#[test]
+fn menu_starts_the_selected_scene_and_escape_quits() {
+    let mut sh = shared();
+    let mut m = StateMachine::new(Box::new(MainMenu::new(None)));
+    m.input(press(Key::ArrowDown), NO_EGUI, &mut sh); // the second scene: pyramid
+    m.input(press(Key::Enter), NO_EGUI, &mut sh);
+    assert_eq!(m.kinds(), vec![StateKind::Simulation]);
+    assert_eq!(sh.settings.scene, "pyramid");
+    assert_eq!(m.sim().unwrap().scene.name, "pyramid");
+
+    let mut m = StateMachine::new(Box::new(MainMenu::new(None)));
+    assert!(!m.should_quit());
+    m.input(press(Key::Escape), NO_EGUI, &mut sh);
+    assert!(m.should_quit());
+}
+
+#[test]
+fn escape_pauses_and_resumes_and_the_paused_world_is_frozen_but_drawn() {
+    let mut sh = shared();
+    let mut m = simulation(&sh);
+    m.update(0.1, &mut sh);
+    let before = steps(&m);
+    assert!(before > 0);
+
+    m.input(press(Key::Escape), NO_EGUI, &mut sh);
+    assert_eq!(m.kinds(), vec![StateKind::Simulation, StateKind::Paused]);
+    for _ in 0..10 {
+        m.update(0.1, &mut sh);
+    }
+    assert_eq!(steps(&m), before, "the world under the pause must not move");
+    // The pause shows no world of its own: the simulation under it is drawn.
+    assert_eq!(m.view().map(|v| v.sim.steps), Some(before));
+
+    m.input(press(Key::Escape), NO_EGUI, &mut sh);
+    assert_eq!(m.kinds(), vec![StateKind::Simulation]);
+    m.update(0.1, &mut sh);
+    assert!(steps(&m) > before);
+}
+
+#[test]
+fn pause_restart_and_back_to_menu() {
+    let mut sh = shared();
+    let mut m = simulation(&sh);
+    m.update(0.1, &mut sh);
+    m.input(press(Key::Escape), NO_EGUI, &mut sh);
+    m.input(press(Key::R), NO_EGUI, &mut sh);
+    assert_eq!(m.kinds(), vec![StateKind::Simulation]);
+    assert_eq!(steps(&m), 0, "restart rebuilt the world");
+
+    m.input(press(Key::Escape), NO_EGUI, &mut sh);
+    m.apply(Transition::Reset(Box::new(MainMenu::new(None))), &mut sh);
+    assert_eq!(m.kinds(), vec![StateKind::MainMenu]);
+}
+
+#[test]
+fn global_state_sees_escape_in_every_state_even_when_egui_has_the_keyboard() {
+    let mut sh = shared();
+    let mut m = StateMachine::new(Box::new(Intro::new(&sh)));
+    // Intro → menu.
+    assert_eq!(
+        m.input(press(Key::Escape), EGUI_KEYBOARD, &mut sh),
+        Routed::Global
+    );
+    assert_eq!(m.top_kind(), Some(StateKind::MainMenu));
+    // Simulation → pause → simulation, with a text field focused all along.
+    let mut m2 = simulation(&sh);
+    m2.global = m.global.clone();
+    assert_eq!(
+        m2.input(press(Key::Escape), EGUI_KEYBOARD, &mut sh),
+        Routed::Global
+    );
+    assert_eq!(m2.top_kind(), Some(StateKind::Paused));
+    assert_eq!(
+        m2.input(press(Key::Escape), EGUI_KEYBOARD, &mut sh),
+        Routed::Global
+    );
+    assert_eq!(m2.top_kind(), Some(StateKind::Simulation));
+    assert_eq!(m2.global.escapes, 3);
+    // Menu → quit.
+    m.input(press(Key::Escape), EGUI_KEYBOARD, &mut sh);
+    assert!(m.should_quit());
+}
+
+#[test]
+fn the_simulation_never_sees_keys_egui_consumed() {
+    let mut sh = shared();
+    let mut m = simulation(&sh);
+    let running = m.sim().unwrap().running;
+    // Typing a space into a text field.
+    assert_eq!(
+        m.input(press(Key::Space), EGUI_KEYBOARD, &mut sh),
+        Routed::Egui
+    );
+    assert_eq!(m.sim().unwrap().running, running);
+    // Typing "s": no single step either.
+    assert_eq!(m.input(press(Key::S), EGUI_KEYBOARD, &mut sh), Routed::Egui);
+    assert_eq!(steps(&m), 0);
+    // Typing "p": no screenshot.
+    assert_eq!(m.input(press(Key::P), EGUI_KEYBOARD, &mut sh), Routed::Egui);
+    assert!(!sh.screenshot_requested);
+    // The same keys with no text field focused reach the simulation.
+    assert_eq!(m.input(press(Key::Space), NO_EGUI, &mut sh), Routed::State);
+    assert_eq!(m.sim().unwrap().running, !running);
+    m.input(press(Key::S), NO_EGUI, &mut sh);
+    assert_eq!(steps(&m), 1);
+    assert_eq!(m.input(press(Key::P), NO_EGUI, &mut sh), Routed::Global);
+    assert!(sh.screenshot_requested);
+}
+
+#[test]
+fn pointer_over_a_panel_does_not_grab_bodies_but_releases_always_arrive() {
+    let mut sh = shared();
+    let mut m = simulation(&sh);
+    m.update(0.0, &mut sh); // frames the scene
+    // The pyramid's lowest box, on screen.
+    let Some(View { sim, camera, .. }) = m.view() else {
+        panic!("no view");
+    };
+    let body = (0..sim.world.body_count())
+        .find(|&i| sim.world.body(i).kind == tumble_physics::BodyKind::Dynamic)
+        .unwrap();
+    let at = camera.world_to_screen(sim.world.body(body).position);
+    let down = InputEvent::Button {
+        button: Button::Left,
+        pressed: true,
+        position: at,
+    };
+    let up = InputEvent::Button {
+        button: Button::Left,
+        pressed: false,
+        position: at,
+    };
+    assert_eq!(m.input(down, EGUI_POINTER, &mut sh), Routed::Egui);
+    assert!(m.sim().unwrap().drag.is_none());
+    assert_eq!(m.input(down, NO_EGUI, &mut sh), Routed::State);
+    assert_eq!(m.sim().unwrap().drag.map(|d| d.body), Some(body));
+    // Let go over a panel: the drag still ends.
+    assert_eq!(m.input(up, EGUI_POINTER, &mut sh), Routed::State);
+    assert!(m.sim().unwrap().drag.is_none());
+}
+
+#[test]
+fn global_toggles_work_whatever_is_on_top() {
+    let mut sh = shared();
+    let mut m = StateMachine::new(Box::new(MainMenu::new(None)));
+    assert!(sh.ui_visible);
+    assert_eq!(
+        m.input(press(Key::F1), EGUI_KEYBOARD, &mut sh),
+        Routed::Global
+    );
+    assert!(!sh.ui_visible);
+    assert_eq!(m.input(press(Key::F12), NO_EGUI, &mut sh), Routed::Global);
+    assert!(sh.screenshot_requested);
+    m.input(press(Key::H), NO_EGUI, &mut sh);
+    assert!(sh.help_visible);
+    // None of them reached the menu (F1 did not start anything).
+    assert_eq!(m.kinds(), vec![StateKind::MainMenu]);
+}
+
+#[test]
+fn ui_of_every_state_runs_headless() {
+    // One egui pass per state, with a real egui context and no window: no panics, and the
+    // menu's Start button is laid out.
+    let ctx = egui::Context::default();
+    let mut sh = shared();
+    let mut machines = vec![
+        StateMachine::new(Box::new(Intro::new(&sh))),
+        StateMachine::new(Box::new(MainMenu::new(None))),
+        simulation(&sh),
+    ];
+    let mut paused = simulation(&sh);
+    paused.input(press(Key::Escape), NO_EGUI, &mut sh);
+    machines.push(paused);
+    sh.help_visible = true;
+    sh.settings.profile_open = true;
+    for m in &mut machines {
+        for _ in 0..2 {
+            m.update(1.0 / 60.0, &mut sh);
+            let input = egui::RawInput {
+                screen_rect: Some(egui::Rect::from_min_size(
+                    egui::Pos2::ZERO,
+                    egui::vec2(800.0, 600.0),
+                )),
+                ..Default::default()
+            };
+            let out = ctx.run_ui(input, |ui| m.ui(ui, &mut sh));
+            assert!(!out.shapes.is_empty());
+            out.drop_without_applying_deltas();
+        }
+    }
+}
