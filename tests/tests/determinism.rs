@@ -49,9 +49,25 @@ fn run(label: &str, threads: impl Fn(u32) -> usize) -> Run {
         .unwrap_or(scene.bodies.len());
     let t0 = std::time::Instant::now();
     let mut w = world(&scene);
+    let cores = tumble_physics::default_thread_count();
+    let mut parallel_solves = 0;
     for step in 0..STEPS {
-        w.set_thread_count(threads(step));
+        let n = threads(step);
+        w.set_thread_count(n);
         w.step(scene.dt, scene.substeps);
+        // The solver must really run on several workers whenever it can (it runs on one
+        // below 256 touching contacts, and never on more workers than cores).
+        let p = w.profile();
+        if p.touching >= 256 {
+            assert_eq!(p.solver_workers, n.min(cores), "{label}: step {step}");
+            parallel_solves += usize::from(p.solver_workers > 1);
+        }
+    }
+    if cores > 1 && threads(STEPS - 1) > 1 {
+        assert!(
+            parallel_solves > 0,
+            "{label}: the parallel solver never ran"
+        );
     }
     assert!(all_finite(&w), "{label}: non-finite state");
     let circle_contacts = w
@@ -127,9 +143,7 @@ fn falling_circles_is_bit_identical_on_any_thread_count() {
 
 #[test]
 fn a_repeated_run_gives_the_same_hash() {
-    // Two threads: parallel, and as many as the 2-core machines the suite runs on have (more
-    // threads than cores make the solver's spin barriers about 20 times slower: measured 1.2 s
-    // for this run on 3 threads against 52 ms on 2).
+    // Two threads: parallel, and as many as the 2-core machines the suite runs on have.
     let a = run("2 threads, first run", |_| 2);
     let b = run("2 threads, second run", |_| 2);
     assert_same(&a, &b);

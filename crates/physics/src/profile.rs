@@ -30,6 +30,8 @@ pub struct StepProfile {
     pub overflow: usize,
     /// Proxies whose fat box changed in the last step.
     pub moved: usize,
+    /// Workers that ran the substeps (1 below 256 touching contacts, never more than cores).
+    pub solver_workers: usize,
     /// Contacts whose manifold was recycled rather than recomputed.
     pub recycled: usize,
     /// Bodies whose state went non-finite in the step and were stopped at their last finite

@@ -854,14 +854,16 @@ impl World {
             restitution_threshold: s.restitution_threshold,
         };
         // Small worlds are not worth waking the other workers for every stage.
-        let workers = if self.solver.constraints.len() < 256 {
+        let workers = if self.touching.len() < 256 {
             1
         } else {
             self.threads
         };
-        self.speed_caps += self
-            .solver
-            .run_substeps(&mut self.states, &self.motion, &step, workers);
+        let (caps, workers) =
+            self.solver
+                .run_substeps(&mut self.states, &self.motion, &step, workers);
+        self.speed_caps += caps;
+        profile.solver_workers = workers;
         profile.solve_ms = ms(t);
 
         let t = Instant::now();

@@ -260,7 +260,7 @@ impl Solver {
     }
 
     /// Runs the substeps, then restitution, on `workers` threads of the current rayon pool
-    /// (1: on this thread, with no synchronisation). Returns how often a speed cap bit.
+    /// (1: on this thread, with no synchronisation). Returns how often a speed cap bit, and the workers used.
     ///
     /// Every worker walks the same list of stages; inside a stage it takes its own share of
     /// the bodies or of one colour's constraints, and a barrier closes the stage. The
@@ -273,8 +273,12 @@ impl Solver {
         motion: &[BodyMotion],
         step: &SubstepParams,
         workers: usize,
-    ) -> u64 {
-        let workers = workers.max(1);
+    ) -> (u64, usize) {
+        // Spinning workers beyond the core count only wait on each other: cap them there.
+        let workers = workers
+            .max(1)
+            .min(rayon::current_num_threads())
+            .min(crate::default_thread_count());
         let any_restitution = self.any_restitution;
         let stages = Stages {
             scalar: SharedSlice::new(&mut self.constraints),
@@ -284,12 +288,13 @@ impl Solver {
             wide_ranges: &self.wide_ranges,
             any_restitution,
         };
-        if workers == 1 {
+        let caps = if workers == 1 {
             let states = BodyStates::exclusive(states);
             run_worker(&stages, &states, motion, step, 0, 1, None)
         } else {
             run_parallel(&stages, states, motion, step, workers)
-        }
+        };
+        (caps, workers)
     }
 }
 
@@ -305,10 +310,6 @@ fn run_parallel(
     // stages, and in the constraint stages disjoint constraints of one colour, which touch
     // disjoint dynamic bodies and write no other body; barriers separate the stages.
     let states = unsafe { BodyStates::shared(states) };
-    // Spinning workers beyond the core count only wait on each other: cap them there.
-    let workers = workers
-        .min(rayon::current_num_threads())
-        .min(crate::default_thread_count());
     let barrier = SpinBarrier::new(workers);
     let caps: Vec<u64> = rayon::broadcast(|ctx| {
         if ctx.index() >= workers {
