@@ -7,7 +7,7 @@
 //! overflow, whose constraints may share bodies, stays on the scalar path.
 
 use glam::Vec2;
-use wide::f32x8;
+use wide::{f32x4, f32x8};
 
 use super::PointResult;
 use super::contact_solver::{ConstraintPoint, ContactConstraint};
@@ -205,39 +205,59 @@ struct WideBody {
     dqs: f32x8,
 }
 
+/// Two 4-lane halves as one 8-lane vector.
+#[inline(always)]
+fn join(lo: f32x4, hi: f32x4) -> f32x8 {
+    wide::bytemuck::cast([lo, hi])
+}
+
+/// The two 4-lane halves of an 8-lane vector.
+#[inline(always)]
+fn halves(x: f32x8) -> [f32x4; 2] {
+    wide::bytemuck::cast(x)
+}
+
+/// Loads eight bodies' states into lanes: each state's two 16-byte halves are loaded whole and
+/// transposed four at a time (Box2D's `b2GatherBodies` does the same with SSE), rather than
+/// assembled float by float, which stalls on store forwarding.
 #[inline(always)]
 fn gather(states: &BodyStates<'_>, index: &[u32; LANES]) -> WideBody {
-    let mut f = [[0.0f32; LANES]; 7];
+    let mut motion = [[f32x4::ZERO; 4]; 2];
+    let mut delta = [[f32x4::ZERO; 4]; 2];
     for l in 0..LANES {
         let s = states.get(index[l] as usize);
-        f[0][l] = s.v.x;
-        f[1][l] = s.v.y;
-        f[2][l] = s.w;
-        f[3][l] = s.dp.x;
-        f[4][l] = s.dp.y;
-        f[5][l] = s.dq.c;
-        f[6][l] = s.dq.s;
+        motion[l / 4][l % 4] = f32x4::new([s.v.x, s.v.y, s.w, 0.0]);
+        delta[l / 4][l % 4] = f32x4::new([s.dp.x, s.dp.y, s.dq.c, s.dq.s]);
     }
+    let [m0, m1] = motion.map(f32x4::transpose);
+    let [d0, d1] = delta.map(f32x4::transpose);
     WideBody {
-        vx: f32x8::from(f[0]),
-        vy: f32x8::from(f[1]),
-        w: f32x8::from(f[2]),
-        dpx: f32x8::from(f[3]),
-        dpy: f32x8::from(f[4]),
-        dqc: f32x8::from(f[5]),
-        dqs: f32x8::from(f[6]),
+        vx: join(m0[0], m1[0]),
+        vy: join(m0[1], m1[1]),
+        w: join(m0[2], m1[2]),
+        dpx: join(d0[0], d1[0]),
+        dpy: join(d0[1], d1[1]),
+        dqc: join(d0[2], d1[2]),
+        dqs: join(d0[3], d1[3]),
     }
 }
 
+/// Writes the velocities of the dynamic lanes back (static and kinematic bodies are shared
+/// between lanes and constraints of a colour, and are never written).
 #[inline(always)]
 fn scatter(states: &BodyStates<'_>, index: &[u32; LANES], dynamic: u8, b: &WideBody) {
     if dynamic == 0 {
         return;
     }
-    let (vx, vy, w) = (b.vx.to_array(), b.vy.to_array(), b.w.to_array());
-    for l in 0..LANES {
-        if dynamic & (1 << l) != 0 {
-            states.set_velocity(index[l] as usize, Vec2::new(vx[l], vy[l]), w[l]);
+    let (vx, vy, w) = (halves(b.vx), halves(b.vy), halves(b.w));
+    for g in 0..2 {
+        let rows = f32x4::transpose([vx[g], vy[g], w[g], f32x4::ZERO]);
+        for (k, row) in rows.iter().enumerate() {
+            let l = g * 4 + k;
+            if dynamic & (1 << l) != 0 {
+                let r = row.as_array();
+                states.set_velocity(index[l] as usize, Vec2::new(r[0], r[1]), r[2]);
+            }
         }
     }
 }
