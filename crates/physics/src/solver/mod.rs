@@ -171,12 +171,7 @@ impl Solver {
         }
         let wide_source = &self.wide_source;
         let pack = |r: &Range<u32>| {
-            let mut lanes = [ContactConstraint::default(); LANES];
-            let n = (r.end - r.start) as usize;
-            for (l, slot) in (r.start..r.end).enumerate() {
-                lanes[l] = build(slot as usize);
-            }
-            WideConstraint::pack(&lanes[..n])
+            WideConstraint::pack_with((r.end - r.start) as usize, |l| build(r.start as usize + l))
         };
         // Reuse the buffer: a fresh 2 MB allocation each step costs page faults.
         self.wide.truncate(wide_source.len());

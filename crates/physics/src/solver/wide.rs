@@ -103,20 +103,25 @@ impl WidePoint {
 }
 
 impl WideConstraint {
-    /// Packs up to eight prepared constraints (one colour's) into lanes.
-    pub fn pack(src: &[ContactConstraint]) -> WideConstraint {
-        debug_assert!(!src.is_empty() && src.len() <= LANES);
+    /// Packs `lanes` constraints (1 to 8) of one colour, built one at a time by `lane(l)`, so
+    /// that no array of scalar constraints is ever written out.
+    pub fn pack_with(
+        lanes: usize,
+        mut lane: impl FnMut(usize) -> ContactConstraint,
+    ) -> WideConstraint {
+        debug_assert!((1..=LANES).contains(&lanes));
+        let first = lane(0);
         let z = f32x8::ZERO;
         let mut w = WideConstraint {
             contact: [0; LANES],
             count: [0; LANES],
             // Tail lanes point at the first lane's bodies with zero masses: they read, never
             // write, and apply no impulse.
-            body_a: [src[0].body_a; LANES],
-            body_b: [src[0].body_b; LANES],
+            body_a: [first.body_a; LANES],
+            body_b: [first.body_b; LANES],
             dynamic_a: 0,
             dynamic_b: 0,
-            lanes: src.len() as u8,
+            lanes: lanes as u8,
             any_friction: false,
             any_restitution: false,
             inv_mass_a: z,
@@ -132,31 +137,38 @@ impl WideConstraint {
             impulse_scale: z,
             points: [WidePoint::ZERO; 2],
         };
-        for (l, c) in src.iter().enumerate() {
-            w.contact[l] = c.contact;
-            w.count[l] = c.count as u8;
-            w.body_a[l] = c.body_a;
-            w.body_b[l] = c.body_b;
-            w.dynamic_a |= u8::from(c.dynamic_a) << l;
-            w.dynamic_b |= u8::from(c.dynamic_b) << l;
-            w.any_friction |= c.friction > 0.0;
-            w.any_restitution |= c.restitution > 0.0;
-            w.inv_mass_a.as_mut_array()[l] = c.inv_mass_a;
-            w.inv_i_a.as_mut_array()[l] = c.inv_i_a;
-            w.inv_mass_b.as_mut_array()[l] = c.inv_mass_b;
-            w.inv_i_b.as_mut_array()[l] = c.inv_i_b;
-            w.normal_x.as_mut_array()[l] = c.normal.x;
-            w.normal_y.as_mut_array()[l] = c.normal.y;
-            w.friction.as_mut_array()[l] = c.friction;
-            w.restitution.as_mut_array()[l] = c.restitution;
-            w.bias_rate.as_mut_array()[l] = c.softness.bias_rate;
-            w.mass_scale.as_mut_array()[l] = c.softness.mass_scale;
-            w.impulse_scale.as_mut_array()[l] = c.softness.impulse_scale;
-            for k in 0..c.count {
-                w.points[k].set_lane(l, &c.points[k]);
-            }
+        w.set_lane(0, &first);
+        for l in 1..lanes {
+            let c = lane(l);
+            w.set_lane(l, &c);
         }
         w
+    }
+
+    #[inline(always)]
+    fn set_lane(&mut self, l: usize, c: &ContactConstraint) {
+        self.contact[l] = c.contact;
+        self.count[l] = c.count as u8;
+        self.body_a[l] = c.body_a;
+        self.body_b[l] = c.body_b;
+        self.dynamic_a |= u8::from(c.dynamic_a) << l;
+        self.dynamic_b |= u8::from(c.dynamic_b) << l;
+        self.any_friction |= c.friction > 0.0;
+        self.any_restitution |= c.restitution > 0.0;
+        self.inv_mass_a.as_mut_array()[l] = c.inv_mass_a;
+        self.inv_i_a.as_mut_array()[l] = c.inv_i_a;
+        self.inv_mass_b.as_mut_array()[l] = c.inv_mass_b;
+        self.inv_i_b.as_mut_array()[l] = c.inv_i_b;
+        self.normal_x.as_mut_array()[l] = c.normal.x;
+        self.normal_y.as_mut_array()[l] = c.normal.y;
+        self.friction.as_mut_array()[l] = c.friction;
+        self.restitution.as_mut_array()[l] = c.restitution;
+        self.bias_rate.as_mut_array()[l] = c.softness.bias_rate;
+        self.mass_scale.as_mut_array()[l] = c.softness.mass_scale;
+        self.impulse_scale.as_mut_array()[l] = c.softness.impulse_scale;
+        for k in 0..c.count {
+            self.points[k].set_lane(l, &c.points[k]);
+        }
     }
 
     /// Whether any lane bounces.
