@@ -36,7 +36,10 @@ pub use math::{Rot, Transform};
 pub use profile::StepProfile;
 pub use scene::{BodyDef, BodyKind, Limits, MAX_POLYGON_VERTICES, SceneDef, ShapeDef};
 pub use shape::{Aabb, Circle, MassData, Polygon, Shape};
-pub use world::{BodyView, ContactView, StepSettings, World, WorldSnapshot, default_thread_count};
+pub use world::{
+    BodyView, ContactView, SpawnWorker, StepSettings, World, WorldSnapshot, default_thread_count,
+    set_thread_source,
+};
 
 /// Length tolerance used by collision (Box2D's `B2_LINEAR_SLOP`, 5 mm).
 pub const LINEAR_SLOP: f32 = 0.005;

@@ -5,11 +5,15 @@
 //! Stages that run in parallel (narrow phase, finalize) write only their own index's slot, so
 //! their results are the same on any thread count.
 
+#[cfg(not(target_arch = "wasm32"))]
 use std::time::Instant;
 
 use glam::Vec2;
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
+// `std::time::Instant` panics on the web; web-time's reads `performance.now()` there.
+#[cfg(target_arch = "wasm32")]
+use web_time::Instant;
 
 use crate::collision::broad_phase::BroadPhase;
 use crate::collision::{Manifold, collide};
@@ -97,9 +101,28 @@ pub struct ContactView<'a> {
     pub manifold: &'a Manifold,
 }
 
-/// Number of cores, the default thread count.
+/// Number of cores, the default thread count (as [`set_thread_source`] says, where it was
+/// called).
 pub fn default_thread_count() -> usize {
-    std::thread::available_parallelism().map_or(1, |n| n.get())
+    match THREAD_SOURCE.get() {
+        Some(&(cores, _)) => cores.max(1),
+        None => std::thread::available_parallelism().map_or(1, |n| n.get()),
+    }
+}
+
+/// Starts one worker thread of a step's pool (a rayon spawn handler).
+pub type SpawnWorker = fn(rayon::ThreadBuilder) -> std::io::Result<()>;
+
+static THREAD_SOURCE: std::sync::OnceLock<(usize, Option<SpawnWorker>)> =
+    std::sync::OnceLock::new();
+
+/// For a platform where `std::thread` cannot start threads (the web, whose threads are Web
+/// Workers): `cores` is what [`default_thread_count`] returns from now on, and `spawn` starts
+/// each worker of the pools built from now on; with `None` there are no threads, and every
+/// step runs on the calling thread. Natively nothing calls it and rayon starts std threads.
+/// Returns false if a source was set already (the first one stays).
+pub fn set_thread_source(cores: usize, spawn: Option<SpawnWorker>) -> bool {
+    THREAD_SOURCE.set((cores, spawn)).is_ok()
 }
 
 /// Per-body data that the step reads but the substep loop does not.
@@ -196,7 +219,8 @@ pub struct World {
     touching: Vec<u32>,
     solver_bodies: Vec<SolverBody>,
     motion: Vec<BodyMotion>,
-    pool: std::sync::Arc<rayon::ThreadPool>,
+    /// `None` where the platform has no threads (see [`set_thread_source`]).
+    pool: Option<std::sync::Arc<rayon::ThreadPool>>,
     threads: usize,
     profile: StepProfile,
     steps: u64,
@@ -204,14 +228,18 @@ pub struct World {
     profile_recycled: usize,
 }
 
-fn build_pool(threads: usize) -> std::sync::Arc<rayon::ThreadPool> {
-    let pool = rayon::ThreadPoolBuilder::new()
+fn build_pool(threads: usize) -> Option<std::sync::Arc<rayon::ThreadPool>> {
+    let builder = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
-        .thread_name(|i| format!("tumble-step-{i}"))
-        .build()
-        // Building a pool only fails if the OS refuses threads; then nothing can run.
-        .expect("the OS refused to start the step's worker threads");
-    std::sync::Arc::new(pool)
+        .thread_name(|i| format!("tumble-step-{i}"));
+    let pool = match THREAD_SOURCE.get() {
+        None => builder.build(),
+        Some(&(_, Some(spawn))) => builder.spawn_handler(spawn).build(),
+        Some(&(_, None)) => return None,
+    }
+    // Building a pool only fails if the OS refuses threads; then nothing can run.
+    .expect("the OS refused to start the step's worker threads");
+    Some(std::sync::Arc::new(pool))
 }
 
 impl World {
@@ -388,7 +416,12 @@ impl World {
 
     /// Sets the worker threads for the next steps (at least 1). Results do not change.
     pub fn set_thread_count(&mut self, threads: usize) {
-        let threads = threads.max(1);
+        // Without threads (see `set_thread_source`) every step runs on the calling thread.
+        let threads = if matches!(THREAD_SOURCE.get(), Some((_, None))) {
+            1
+        } else {
+            threads.max(1)
+        };
         if threads != self.threads {
             self.pool = build_pool(threads);
             self.threads = threads;
@@ -620,7 +653,7 @@ impl World {
             return;
         }
         let pool = self.pool.clone();
-        pool.install(|| {
+        let mut run = || {
             let t = Instant::now();
             self.update_pairs();
             profile.broad_phase_ms = ms(t);
@@ -634,7 +667,11 @@ impl World {
             let t = Instant::now();
             self.finalize(dt);
             profile.finalize_ms = ms(t);
-        });
+        };
+        match pool {
+            Some(pool) => pool.install(run),
+            None => run(),
+        }
         self.steps += 1;
         profile.bodies = self.sims.len();
         profile.contacts = self.contacts.len();

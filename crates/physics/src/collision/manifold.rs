@@ -313,106 +313,102 @@ pub fn collide_polygons(
     }
     let (va, vb) = (&va[..na], &vb[..nb]);
     let (an, bn) = (&a.normals[..na], &nbv[..nb]);
-    let (edge_a, sep_a) = find_max_separation(a, va, vb, an);
-    if sep_a > max_distance {
+    let (mut edge_a, sep_a) = find_max_separation(a, va, vb, an);
+    let (mut edge_b, sep_b) = find_max_separation(b, vb, va, bn);
+    if sep_a > max_distance || sep_b > max_distance {
         return Manifold::default();
     }
-    let (edge_b, sep_b) = find_max_separation(b, vb, va, bn);
-    if sep_b > max_distance {
-        return Manifold::default();
-    }
-    // Prefer A's face unless B's is clearly better, so the choice does not flicker when the
-    // two are equal (Box2D uses the same 0.1·slop tolerance).
-    let flip = sep_b > sep_a + 0.1 * LINEAR_SLOP;
-    let (v1s, n1s, v2s, n2s, edge1) = if flip {
-        (vb, bn, va, an, edge_b)
-    } else {
-        (va, an, vb, bn, edge_a)
+    // The reference face is the one of greater separation; the incident edge is the other
+    // polygon's edge most anti-parallel to it (Box2D v3 `b2CollidePolygons`).
+    let flip = sep_b > sep_a;
+    let most_anti_parallel = |search: Vec2, normals: &[Vec2]| {
+        let mut best = 0;
+        let mut min_dot = f32::MAX;
+        for (i, n) in normals.iter().enumerate() {
+            let d = dot(search, *n);
+            if d < min_dot {
+                min_dot = d;
+                best = i;
+            }
+        }
+        best
     };
-    let (c1, c2) = (v1s.len(), v2s.len());
-    let i11 = edge1;
-    let i12 = (edge1 + 1) % c1;
-    let normal = n1s[i11];
-    // Incident edge: the one most anti-parallel to the reference normal.
-    let mut i21 = 0;
-    let mut min_dot = f32::MAX;
-    for i in 0..c2 {
-        let d = dot(normal, n2s[i]);
-        if d < min_dot {
-            min_dot = d;
-            i21 = i;
-        }
+    if flip {
+        edge_a = most_anti_parallel(bn[edge_b], an);
+    } else {
+        edge_b = most_anti_parallel(an[edge_a], bn);
     }
-    let i22 = (i21 + 1) % c2;
-    let v11 = v1s[i11];
-    let v12 = v1s[i12];
-    let v21 = v2s[i21];
-    let v22 = v2s[i22];
-
-    if sep_a.max(sep_b) > 0.1 * LINEAR_SLOP {
-        // Separated: if the closest features are two vertices, one point along the line
-        // between them gives a correct speculative normal round corners.
-        let sd = segment_distance(v11, v12, v21, v22);
-        let corner = |f: f32| f == 0.0 || f == 1.0;
-        if corner(sd.fraction1) && corner(sd.fraction2) {
-            let (p1, k1) = if sd.fraction1 == 0.0 {
-                (v11, i11)
-            } else {
-                (v12, i12)
-            };
-            let (p2, k2) = if sd.fraction2 == 0.0 {
-                (v21, i21)
-            } else {
-                (v22, i22)
-            };
-            let distance = sd.distance_squared.sqrt();
-            if distance > max_distance {
-                return Manifold::default();
-            }
-            let (mut n, _) = normalize_and_length(p2 - p1);
-            if n == Vec2::ZERO {
-                n = normal;
-            }
-            // p1 is on poly1; n points from poly1 to poly2.
+    let clipped = || clip(xf_a, xf_b, origin, va, an, vb, bn, edge_a, edge_b, flip);
+    if sep_a.max(sep_b) <= 0.1 * LINEAR_SLOP {
+        // Overlapping (or all but touching): clip.
+        return clipped();
+    }
+    // Separated: the closest points of A's edge and B's edge. Where they are two vertices
+    // and clearly farther apart than the clipped points claim, one point along the line
+    // between the vertices gives the right speculative normal round corners.
+    let i11 = edge_a;
+    let i12 = (edge_a + 1) % na;
+    let i21 = edge_b;
+    let i22 = (edge_b + 1) % nb;
+    let (v11, v12, v21, v22) = (va[i11], va[i12], vb[i21], vb[i22]);
+    let sd = segment_distance(v11, v12, v21, v22);
+    let distance = sd.distance_squared.sqrt();
+    if distance > max_distance {
+        return Manifold::default();
+    }
+    let m = clipped();
+    let min_separation = m.points().iter().fold(f32::MAX, |s, p| s.min(p.separation));
+    if distance + 0.1 * LINEAR_SLOP >= min_separation {
+        return m;
+    }
+    let corner = |f: f32, first: (Vec2, usize), second: (Vec2, usize)| {
+        if f == 0.0 {
+            Some(first)
+        } else if f == 1.0 {
+            Some(second)
+        } else {
+            None
+        }
+    };
+    match (
+        corner(sd.fraction1, (v11, i11), (v12, i12)),
+        corner(sd.fraction2, (v21, i21), (v22, i22)),
+    ) {
+        (Some((p1, k1)), Some((p2, k2))) if distance > 0.0 => {
+            let n = (p2 - p1) * (1.0 / distance);
             let mid = p1 + n * (0.5 * distance);
-            let (n_ab, id) = if flip {
-                (-n, make_id(k2, k1))
-            } else {
-                (n, make_id(k1, k2))
-            };
-            return single(xf_a, xf_b, n_ab, mid + origin, distance, id);
+            single(xf_a, xf_b, n, mid + origin, distance, make_id(k1, k2))
         }
+        _ => m,
     }
-    clip(
-        xf_a,
-        xf_b,
-        origin,
-        v11,
-        v12,
-        v21,
-        v22,
-        normal,
-        (i11, i12, i21, i22),
-        flip,
-        max_distance,
-    )
 }
 
-/// Clips the incident edge v21–v22 to the side planes of the reference edge v11–v12.
+/// Clips the incident edge to the side planes of the reference edge and keeps both points,
+/// however far one is: the solver's speculative branch handles it (Box2D `b2ClipPolygons`).
+/// Vertices and normals are in A's frame, shifted by `origin`.
 fn clip(
     xf_a: Transform,
     xf_b: Transform,
     origin: Vec2,
-    v11: Vec2,
-    v12: Vec2,
-    v21: Vec2,
-    v22: Vec2,
-    normal: Vec2,
-    ids: (usize, usize, usize, usize),
+    va: &[Vec2],
+    an: &[Vec2],
+    vb: &[Vec2],
+    bn: &[Vec2],
+    edge_a: usize,
+    edge_b: usize,
     flip: bool,
-    max_distance: f32,
 ) -> Manifold {
-    let (i11, i12, i21, i22) = ids;
+    let ((v1s, n1s, e1), (v2s, e2)) = if flip {
+        ((vb, bn, edge_b), (va, edge_a))
+    } else {
+        ((va, an, edge_a), (vb, edge_b))
+    };
+    let i11 = e1;
+    let i12 = (e1 + 1) % v1s.len();
+    let i21 = e2;
+    let i22 = (e2 + 1) % v2s.len();
+    let normal = n1s[i11];
+    let (v11, v12, v21, v22) = (v1s[i11], v1s[i12], v2s[i21], v2s[i22]);
     let tangent = Vec2::new(-normal.y, normal.x);
     let lower1 = 0.0;
     let upper1 = dot(v12 - v11, tangent);
@@ -457,15 +453,12 @@ fn clip(
     };
     let mut m = Manifold {
         normal: xf_a.q.apply(n_ab),
+        count: 2,
         ..Manifold::default()
     };
-    for (local, sep, id) in pts {
-        // A point beyond the margin cannot touch within this step.
-        if sep > max_distance {
-            continue;
-        }
+    for (k, (local, sep, id)) in pts.into_iter().enumerate() {
         let (point, anchor_a, anchor_b) = world_point(xf_a, xf_b, local);
-        m.points[m.count] = ManifoldPoint {
+        m.points[k] = ManifoldPoint {
             point,
             anchor_a,
             anchor_b,
@@ -473,7 +466,6 @@ fn clip(
             id,
             ..ManifoldPoint::default()
         };
-        m.count += 1;
     }
     m
 }
@@ -596,10 +588,16 @@ mod tests {
             MAX,
         );
         assert!((m.normal - Vec2::Y).length() < 1e-5);
-        // One corner penetrates; the other end of the incident edge is far above (kept only
-        // if within the margin, which it is not).
-        assert_eq!(m.count, 1);
-        assert!((m.points[0].separation + 0.01).abs() < 1e-5);
+        // One corner penetrates; the other end of the incident edge is far above, and is kept
+        // all the same as a speculative point (Box2D emits both clipped points).
+        assert_eq!(m.count, 2);
+        let (deep, far) = (
+            m.points[0].separation.min(m.points[1].separation),
+            m.points[0].separation.max(m.points[1].separation),
+        );
+        assert!((deep + 0.01).abs() < 1e-5, "{deep}");
+        // The side corner is h above the lowest one, less the 0.01 m overlap.
+        assert!((far - (h - 0.01)).abs() < 1e-4, "{far}");
     }
 
     #[test]
