@@ -4,7 +4,6 @@
 //! into these types and report syntax errors with line and column; [`SceneDef::validate`]
 //! then checks the values and names the body index and field of anything it refuses.
 
-use glam::Vec2;
 use serde::{Deserialize, Serialize};
 
 use crate::error::SceneError;
@@ -453,6 +452,5 @@ fn validate_body(index: usize, body: &BodyDef) -> Result<(), SceneError> {
             "shapes up to 100 km across",
         ));
     }
-    let _ = Vec2::ZERO;
     Ok(())
 }

@@ -211,8 +211,7 @@ pub fn collide_polygon_circle(
 
 /// For each edge normal of `p1`, the deepest vertex of `p2` below it; returns the edge with
 /// the largest such separation (the separating-axis test, Box2D's `b2FindMaxSeparation`).
-fn find_max_separation(p1: &Polygon, v1: &[Vec2], p2v: &[Vec2], n1: &[Vec2]) -> (usize, f32) {
-    let _ = p1;
+fn find_max_separation(v1: &[Vec2], n1: &[Vec2], p2v: &[Vec2]) -> (usize, f32) {
     let mut best = 0;
     let mut max_sep = f32::MIN;
     for i in 0..v1.len() {
@@ -313,8 +312,8 @@ pub fn collide_polygons(
     }
     let (va, vb) = (&va[..na], &vb[..nb]);
     let (an, bn) = (&a.normals[..na], &nbv[..nb]);
-    let (mut edge_a, sep_a) = find_max_separation(a, va, vb, an);
-    let (mut edge_b, sep_b) = find_max_separation(b, vb, va, bn);
+    let (mut edge_a, sep_a) = find_max_separation(va, an, vb);
+    let (mut edge_b, sep_b) = find_max_separation(vb, bn, va);
     if sep_a > max_distance || sep_b > max_distance {
         return Manifold::default();
     }
