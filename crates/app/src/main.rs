@@ -2,17 +2,18 @@
 //! `--threads`, `--frames`, `--screenshot` and `--stats` script it (CONTRACT.md, section 3).
 //!
 //! The only platform code of the app is here: the native entry (pollster waits for wgpu's
-//! setup) and, later, the web entry.
+//! setup) and the web entry, which hands over to `tumble_app::web`.
 
 #[cfg(not(target_arch = "wasm32"))]
 fn main() -> std::process::ExitCode {
     native::main()
 }
 
+/// The web build's `main` runs as the module is instantiated: it installs the panic hooks.
+/// The page then awaits `initThreadPool(n)` and calls `start()` (`tumble_app::web`).
 #[cfg(target_arch = "wasm32")]
 fn main() {
-    // The web entry (wasm-bindgen, a canvas, the thread pool over web workers) comes with the
-    // web build.
+    tumble_app::web::main();
 }
 
 #[cfg(not(target_arch = "wasm32"))]
@@ -20,7 +21,13 @@ mod native {
     use std::process::ExitCode;
 
     use clap::Parser;
+    use tumble_app::app::{GfxFuture, GfxSlot, Platform};
     use tumble_app::cli::Cli;
+
+    /// Natively wgpu's setup is simply waited for.
+    fn block_on(future: GfxFuture, slot: GfxSlot) {
+        *slot.borrow_mut() = Some(pollster::block_on(future));
+    }
 
     pub fn main() -> ExitCode {
         install_panic_hook();
@@ -37,7 +44,7 @@ mod native {
         };
         let result = cli
             .into_options()
-            .and_then(|options| tumble_app::app::run(options, pollster::block_on));
+            .and_then(|options| tumble_app::app::run(options, Platform::native(block_on)));
         match result {
             Ok(_) => ExitCode::SUCCESS,
             Err(e) => {

@@ -1,5 +1,6 @@
 //! Settings that persist between runs, as a small RON file in the user's config directory:
-//! `$TUMBLE_CONFIG_DIR`, else `$XDG_CONFIG_HOME/tumble`, else `$HOME/.config/tumble`.
+//! `$TUMBLE_CONFIG_DIR`, else `$XDG_CONFIG_HOME/tumble`, else `$HOME/.config/tumble`. On the
+//! web, the same RON text in the page's `localStorage` under [`STORAGE_KEY`].
 //!
 //! Loading never fails: a missing file gives the defaults, and an unreadable or malformed one
 //! gives the defaults with a warning. Saving never fails the app either: an unwritable
@@ -11,6 +12,9 @@ use serde::{Deserialize, Serialize};
 
 /// The file name inside the config directory.
 pub const FILE_NAME: &str = "settings.ron";
+
+/// The `localStorage` key of the web build's settings.
+pub const STORAGE_KEY: &str = "tumble.settings";
 
 /// What to draw besides the bodies.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -82,8 +86,20 @@ pub fn config_dir() -> Option<PathBuf> {
 
 impl Settings {
     /// Reads the settings file; the defaults when there is none or it cannot be read.
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn load() -> Settings {
         config_dir().map_or_else(Settings::default, |dir| Settings::load_from(&dir))
+    }
+
+    /// Reads the settings from the page's `localStorage`; the defaults when there are none
+    /// or they cannot be read.
+    #[cfg(target_arch = "wasm32")]
+    pub fn load() -> Settings {
+        let text = web_sys::window()
+            .and_then(|w| w.local_storage().ok().flatten())
+            .and_then(|storage| storage.get_item(STORAGE_KEY).ok().flatten());
+        text.and_then(|t| Settings::parse(&t).ok())
+            .unwrap_or_default()
     }
 
     /// Reads `dir/settings.ron`; the defaults when there is none or it cannot be read.
@@ -121,9 +137,19 @@ impl Settings {
     }
 
     /// Writes the settings file; a failure is reported on stderr and otherwise ignored.
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn save(&self) {
         if let Some(dir) = config_dir() {
             self.save_to(&dir);
+        }
+    }
+
+    /// Writes the settings to the page's `localStorage`; a failure (storage disabled or
+    /// full) is ignored.
+    #[cfg(target_arch = "wasm32")]
+    pub fn save(&self) {
+        if let Some(storage) = web_sys::window().and_then(|w| w.local_storage().ok().flatten()) {
+            let _ = storage.set_item(STORAGE_KEY, &self.to_ron());
         }
     }
 

@@ -164,6 +164,10 @@ mod imp {
             let b = self.world.body(index);
             Ok([b.position.x, b.position.y, b.angle])
         }
+        fn velocity(&mut self, index: usize) -> Result<[f32; 3]> {
+            let b = self.world.body(index);
+            Ok([b.linear_velocity.x, b.linear_velocity.y, b.angular_velocity])
+        }
     }
 
     /// Mean wall ms of `peer.step()` over `steps` steps; nothing else is inside the clock.

@@ -3,15 +3,16 @@
 //! `tumble-bench run SCENE [--steps N] [--threads T] [--substeps S] [--out FILE]` runs a scene
 //! and writes one JSON document (see CONTRACT.md, section 2). `tumble-bench sweep` times scenes
 //! against thread and body counts (table, CSV, SVG charts); `tumble-bench compare` (feature
-//! `peers`) times the same scenes in tumble, Box2D v3 and Rapier2D. Each subcommand lives in its
+//! `peers`) times the same scenes in tumble, Box2D v3 and Rapier2D; `tumble-bench report` measures
+//! speed against error on the hard cases (docs/accuracy/REPORT.md). Each subcommand lives in its
 //! own module; `main` only parses the command line and turns errors into a message and exit
 //! code 2.
 
 mod compare;
 mod machine;
-#[cfg(feature = "peers")]
 mod peers;
 mod plot;
+mod report;
 mod run;
 mod scenes;
 mod sweep;
@@ -39,6 +40,10 @@ enum Command {
     /// Time the same scenes in tumble, Box2D v3 and Rapier2D (needs `--features peers`); write
     /// compare.md and compare.csv.
     Compare(compare::CompareArgs),
+    /// Speed against error on the hard cases: sweep substeps, relax iterations and contact
+    /// hertz, measure each case's error from the state, and write REPORT.md with one SVG per
+    /// case (with `--features peers`, Box2D v3 and Rapier2D on the same cases).
+    Report(report::ReportArgs),
 }
 
 fn main() -> ExitCode {
@@ -59,6 +64,7 @@ fn main() -> ExitCode {
         Command::Run(args) => run::run(&args),
         Command::Sweep(args) => sweep::run(&args),
         Command::Compare(args) => compare::run(&args),
+        Command::Report(args) => report::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

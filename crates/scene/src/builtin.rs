@@ -25,7 +25,12 @@ const NAMES: &[&str] = &[
     "overlap_recovery",
     "confined",
     "far_from_origin",
+    "mass_ratio_columns",
+    "friction_incline",
+    "restitution_drop",
+    "elastic_box",
     "large_pyramid",
+    "pyramid_200",
     "many_pyramids",
     "smash",
     "tumbler",
@@ -49,7 +54,12 @@ pub fn build(name: &str) -> Option<SceneDef> {
         "overlap_recovery" => overlap_recovery(),
         "confined" => confined(),
         "far_from_origin" => far_from_origin(),
+        "mass_ratio_columns" => mass_ratio_columns(),
+        "friction_incline" => friction_incline(),
+        "restitution_drop" => restitution_drop(),
+        "elastic_box" => elastic_box(),
         "large_pyramid" => large_pyramid(),
+        "pyramid_200" => pyramid_200(),
         "many_pyramids" => many_pyramids(),
         "smash" => smash(),
         "tumbler" => tumbler(),
@@ -101,9 +111,29 @@ pub fn describe(name: &str) -> Option<&'static str> {
             "A 10-box stack standing at (10000, 10000), where f32 has a millimetre of precision. \
              Tests that precision loss far from the origin does not make the stack jitter or drift."
         }
+        "mass_ratio_columns" => {
+            "Three columns of three light unit boxes, each carrying a box 10, 100 and 1000 times denser. \
+             Tests mass ratios along a chain of contacts: the columns must stand without sinking or jumping."
+        }
+        "friction_incline" => {
+            "Three boxes on 20-degree slopes with friction 0.30, 0.35 and 0.40 (tan 20 deg = 0.364). \
+             Tests Coulomb friction near the sticking point: two slide at g (sin - mu cos), one sticks."
+        }
+        "restitution_drop" => {
+            "Three frictionless balls of restitution 0.25, 0.5 and 0.75 dropped from 5 m. \
+             Tests restitution: each must bounce back to e^2 times its drop height."
+        }
+        "elastic_box" => {
+            "40 frictionless, perfectly elastic circles flying about a closed box, no gravity, no damping. \
+             Tests energy conservation: their kinetic energy should stay put for a minute."
+        }
         "large_pyramid" => {
             "Benchmark: a 100-row pyramid of 5050 boxes (Box2D's large_pyramid). \
              Tests raw solver throughput on one huge island of contacts."
+        }
+        "pyramid_200" => {
+            "A 200-row pyramid of 20100 unit boxes, twice Box2D's large_pyramid. \
+             Tests the solver at the edge: a very deep, very wide stack must stand."
         }
         "many_pyramids" => {
             "Benchmark: 400 small 10-row pyramids on 20 shelves, 22000 boxes (Box2D's many_pyramids). \
@@ -501,6 +531,139 @@ fn far_from_origin() -> SceneDef {
     scene
 }
 
+/// Our own hard case: three columns, 6 m apart, of three light unit boxes (density 1) on a
+/// static ground, each capped by a unit box of density 10, 100 and 1000, so the light boxes
+/// carry 10, 100 and 1000 times their own weight along a chain of contacts. Friction 0.6, the
+/// boxes start exactly touching. Bodies: the ground, then each column bottom to top.
+fn mass_ratio_columns() -> SceneDef {
+    let mut scene = SceneDef::new("mass_ratio_columns");
+    scene.steps = 600;
+    scene.push(static_box(20.0, 0.5, 0.0, -0.5));
+    for (column, ratio) in MASS_RATIOS.into_iter().enumerate() {
+        let x = -6.0 + 6.0 * column as f32;
+        for row in 0..MASS_RATIO_LIGHT_BOXES {
+            scene.push(BodyDef::new(rect(0.5, 0.5)).at(x, 0.5 + row as f32));
+        }
+        scene.push(
+            BodyDef::new(rect(0.5, 0.5))
+                .at(x, 0.5 + MASS_RATIO_LIGHT_BOXES as f32)
+                .density(ratio),
+        );
+    }
+    scene
+}
+
+/// The heavy box's density in each column of `mass_ratio_columns` (the light boxes' is 1).
+pub const MASS_RATIOS: [f32; 3] = [10.0, 100.0, 1000.0];
+/// Light boxes under each heavy one in `mass_ratio_columns`.
+pub const MASS_RATIO_LIGHT_BOXES: usize = 3;
+
+/// Slope angle of `friction_incline` (degrees).
+pub const INCLINE_DEGREES: f32 = 20.0;
+/// Friction of each box of `friction_incline` and of its own slope, so the pair's mixed
+/// coefficient `sqrt(a * b)` is exactly this.
+pub const INCLINE_FRICTIONS: [f32; 3] = [0.30, 0.35, 0.40];
+
+/// Our own hard case: three static slopes (30 x 1 m) at 20 degrees, one above the other 8 m
+/// apart, each with a unit box resting on it 10 m up from its centre, box and slope of friction
+/// 0.30, 0.35 and 0.40 around tan 20 deg = 0.364. Bodies: slope, box, slope, box, ...
+/// The boxes start at rest on the face (no gap, no overlap), turned with the slope.
+fn friction_incline() -> SceneDef {
+    let mut scene = SceneDef::new("friction_incline");
+    scene.steps = 180;
+    let theta = INCLINE_DEGREES.to_radians();
+    let (s, c) = theta.sin_cos();
+    // Along the slope (uphill) and out of it.
+    let (along, normal) = ([c, s], [-s, c]);
+    for (k, mu) in INCLINE_FRICTIONS.into_iter().enumerate() {
+        let centre = [0.0, -8.0 * k as f32];
+        scene.push(
+            BodyDef::new(rect(15.0, 0.5))
+                .kind(BodyKind::Static)
+                .at(centre[0], centre[1])
+                .angle(theta)
+                .friction(mu),
+        );
+        // 10 m uphill of the slope's centre, its centre 0.5 + 0.5 m out of the slope's.
+        let up = 10.0;
+        scene.push(
+            BodyDef::new(rect(0.5, 0.5))
+                .at(
+                    centre[0] + up * along[0] + normal[0],
+                    centre[1] + up * along[1] + normal[1],
+                )
+                .angle(theta)
+                .friction(mu),
+        );
+    }
+    scene
+}
+
+/// Restitution of each ball of `restitution_drop`.
+pub const DROP_RESTITUTIONS: [f32; 3] = [0.25, 0.5, 0.75];
+/// How far the bottom of each ball of `restitution_drop` starts above the ground (m).
+pub const DROP_HEIGHT: f32 = 5.0;
+
+/// Our own hard case: three frictionless balls of radius 0.5 and restitution 0.25, 0.5 and
+/// 0.75, 3 m apart, their bottoms 5 m above a static ground of restitution 0 (pairs mix as
+/// `max`), dropped from rest. Bodies: the ground, then the balls.
+fn restitution_drop() -> SceneDef {
+    let mut scene = SceneDef::new("restitution_drop");
+    scene.steps = 180;
+    scene.push(static_box(20.0, 0.5, 0.0, -0.5).friction(0.0));
+    for (k, e) in DROP_RESTITUTIONS.into_iter().enumerate() {
+        scene.push(
+            BodyDef::new(circle(0.5))
+                .at(-3.0 + 3.0 * k as f32, 0.5 + DROP_HEIGHT)
+                .restitution(e)
+                .friction(0.0),
+        );
+    }
+    scene
+}
+
+/// Our own hard case: 40 circles of radius 0.3 (density 1) on a 8 x 5 grid, 1 m apart, with
+/// seeded velocities of 2 to 6 m/s in every direction, inside a closed static box of 10 x 10 m
+/// inside, without gravity; everything frictionless and of restitution 1, no damping. Kinetic
+/// energy should stay constant. Bodies: the four walls (floor, left, right, roof), then the
+/// circles.
+fn elastic_box() -> SceneDef {
+    let mut scene = SceneDef::new("elastic_box");
+    scene.steps = 3600;
+    scene.gravity = [0.0, 0.0];
+    let wall =
+        |hx: f32, hy: f32, x: f32, y: f32| static_box(hx, hy, x, y).friction(0.0).restitution(1.0);
+    let (half, t) = (5.0, 0.5);
+    scene.push(wall(half + 2.0 * t, t, 0.0, -t));
+    scene.push(wall(t, half + 2.0 * t, -half - t, half));
+    scene.push(wall(t, half + 2.0 * t, half + t, half));
+    scene.push(wall(half + 2.0 * t, t, 0.0, 2.0 * half + t));
+    // A small seeded generator (SplitMix64), so the scene is the same everywhere.
+    let mut state: u64 = 0x0065_6c61_7374_6963; // "elastic"
+    let mut unit = move || {
+        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^= z >> 31;
+        (z >> 40) as f32 / (1u64 << 24) as f32
+    };
+    for row in 0..5 {
+        for column in 0..8 {
+            let speed = 2.0 + 4.0 * unit();
+            let direction = 2.0 * PI * unit();
+            scene.push(
+                BodyDef::new(circle(0.3))
+                    .at(-3.5 + column as f32, 1.5 + 1.5 * row as f32)
+                    .velocity(speed * direction.cos(), speed * direction.sin())
+                    .friction(0.0)
+                    .restitution(1.0),
+            );
+        }
+    }
+    scene
+}
+
 // ---------------------------------------------------------------------------------------------
 // Benchmarks (Box2D shared/benchmarks.c, step counts from benchmark/main.c)
 
@@ -511,6 +674,16 @@ fn large_pyramid() -> SceneDef {
     scene.steps = 500;
     scene.push(static_box(100.0, 1.0, 0.0, -1.0));
     push_pyramid(&mut scene, 100, 0.5);
+    scene
+}
+
+/// Twice Box2D's `CreateLargePyramid`: 200 rows (20100 boxes) of half size 0.5, density 1,
+/// friction 0.6, on a 150 x 1 half-size static ground at (0, -1); 500 steps.
+fn pyramid_200() -> SceneDef {
+    let mut scene = SceneDef::new("pyramid_200");
+    scene.steps = 500;
+    scene.push(static_box(150.0, 1.0, 0.0, -1.0));
+    push_pyramid(&mut scene, 200, 0.5);
     scene
 }
 
@@ -615,7 +788,7 @@ mod tests {
 
     #[test]
     fn every_name_builds_describes_and_validates() {
-        assert_eq!(names().len(), 14);
+        assert_eq!(names().len(), 19);
         for &name in names() {
             let scene = build(name).unwrap_or_else(|| panic!("{name} does not build"));
             assert_eq!(scene.name, name);
@@ -660,6 +833,11 @@ mod tests {
             ("confined", 625, 4),
             ("far_from_origin", 10, 1),
             ("falling_circles", 300, 1),
+            ("mass_ratio_columns", 12, 1),
+            ("friction_incline", 3, 3),
+            ("restitution_drop", 3, 1),
+            ("elastic_box", 40, 4),
+            ("pyramid_200", 20_100, 1),
         ];
         for (name, dynamic, fixed) in expect {
             let scene = build(name).unwrap();

@@ -5,19 +5,25 @@
 //! [`Step`]s; to add a check, add a step to the list (with the packages it needs).
 
 mod png;
+mod web;
 
 use std::env;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode, Stdio};
 use std::time::Instant;
 
-const USAGE: &str = "usage: cargo xtask TASK
+const USAGE_HEAD: &str = "usage: cargo xtask TASK [ARGS]
 
 tasks:
   test    cargo fmt --check, cargo clippy -D warnings, cargo test, the viewer's offscreen
-          rendering test, the viewer in a real window under Xvfb, and the peer comparison
-          tests: every check CI runs (installs the rustfmt and clippy components and the
-          Debian packages the steps need when they are missing)";
+          rendering test, the viewer in a real window under Xvfb, the web build in
+          chromium, and the peer comparison tests: every check CI runs (installs the
+          rustfmt and clippy components, the web build's tools and the Debian packages
+          the steps need when they are missing)";
+
+fn usage() -> String {
+    format!("{USAGE_HEAD}\n{}", web::USAGE)
+}
 
 /// What the viewer's steps need: Mesa's software Vulkan (lavapipe) and GL, so wgpu finds an
 /// adapter with no GPU.
@@ -47,20 +53,30 @@ fn main() -> ExitCode {
     let args: Vec<String> = env::args().skip(1).collect();
     match args.first().map(String::as_str) {
         Some("test") if args.len() == 1 => run_task("test", &test_steps()),
+        Some("web") => match web::task(&workspace_root(), &args[1..]) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(e) => {
+                eprintln!("error: cargo xtask web: {e}");
+                ExitCode::FAILURE
+            }
+        },
         Some("-h" | "--help" | "help") => {
-            println!("{USAGE}");
+            println!("{}", usage());
             ExitCode::SUCCESS
         }
         Some("test") => {
-            eprintln!("error: `cargo xtask test` takes no arguments\n\n{USAGE}");
+            eprintln!(
+                "error: `cargo xtask test` takes no arguments\n\n{}",
+                usage()
+            );
             ExitCode::from(2)
         }
         Some(other) => {
-            eprintln!("error: unknown task `{other}`\n\n{USAGE}");
+            eprintln!("error: unknown task `{other}`\n\n{}", usage());
             ExitCode::from(2)
         }
         None => {
-            eprintln!("error: no task given\n\n{USAGE}");
+            eprintln!("error: no task given\n\n{}", usage());
             ExitCode::from(2)
         }
     }
@@ -181,6 +197,20 @@ fn test_steps() -> Vec<Step> {
                 "tumble --scene pyramid --frames 300 --threads 2 in a window under Xvfb; \
                  check its screenshot and stats",
                 viewer_window,
+            ),
+        },
+        Step {
+            // The same viewer in a browser: the threaded wasm build, served with the
+            // cross-origin isolation headers, driven in Debian's chromium (WebGL2 through
+            // SwiftShader, and WebGPU) by tests/browser/web.test.mjs.
+            name: "web",
+            debian_packages: &["chromium", "fonts-dejavu-core"],
+            components: &[],
+            action: Action::Check(
+                "clippy on the wasm build; build the web bundle, serve it, and test it in \
+                 chromium (WebGL2 and WebGPU, threads, the thread slider) with node --test \
+                 and playwright-core",
+                web::browser_tests,
             ),
         },
         Step {

@@ -243,6 +243,16 @@ fn settings_ui(ui: &mut egui::Ui, shared: &mut Shared) {
             shared.settings.threads = threads;
         }
     });
+    if let Some(note) = &shared.threads_note {
+        ui.add(
+            egui::Label::new(
+                RichText::new(note)
+                    .small()
+                    .color(Color32::from_rgb(255, 200, 120)),
+            )
+            .wrap(),
+        );
+    }
     ui.checkbox(&mut shared.settings.vsync, "Vsync (applies at next start)");
     ui.checkbox(&mut shared.settings.debug.grid, "Metre grid");
     if ui.button("Reset all settings").clicked() {

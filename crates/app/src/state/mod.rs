@@ -117,6 +117,11 @@ pub struct Shared {
     pub toast: Option<(String, f64)>,
     /// Seconds since the app started.
     pub time: f64,
+    /// Why the platform offers fewer threads than the machine has, if it does (the web build
+    /// in a page that is not cross-origin isolated).
+    pub threads_note: Option<String>,
+    /// Where the thread slider was drawn this frame (egui points), for tests that drive it.
+    pub threads_slider: Option<egui::Rect>,
 }
 
 impl Shared {
@@ -134,6 +139,8 @@ impl Shared {
             backend: String::new(),
             toast: None,
             time: 0.0,
+            threads_note: None,
+            threads_slider: None,
         }
     }
 
@@ -143,8 +150,9 @@ impl Shared {
     }
 }
 
-/// One state of the viewer. Every method has a default that does nothing.
-pub trait State {
+/// One state of the viewer. Every method has a default that does nothing. States are `Send`:
+/// the web build runs their update on a worker.
+pub trait State: Send {
     /// Which state this is.
     fn kind(&self) -> StateKind;
 
@@ -210,7 +218,9 @@ pub enum Routed {
     Nobody,
 }
 
-/// The stack of states with the global state beside it.
+/// The stack of states with the global state beside it. The default is an empty stack, a
+/// placeholder while the states are away (their update running on another thread).
+#[derive(Default)]
 pub struct StateMachine {
     stack: Vec<Box<dyn State>>,
     /// The global state (always active).

@@ -99,11 +99,11 @@ fn controls(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared, out: &m
         .show(ui, |ui| {
             ui.label("Threads");
             let mut threads = st.sim.world.thread_count();
-            if ui
+            let slider = ui
                 .add(egui::Slider::new(&mut threads, 1..=cores))
-                .on_hover_text("Worker threads for the step; the result does not change.")
-                .changed()
-            {
+                .on_hover_text("Worker threads for the step; the result does not change.");
+            shared.threads_slider = Some(slider.rect);
+            if slider.changed() {
                 st.sim.world.set_thread_count(threads);
                 shared.settings.threads = threads;
             }
@@ -144,6 +144,16 @@ fn controls(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared, out: &m
             });
             ui.end_row();
         });
+    if let Some(note) = &shared.threads_note {
+        ui.add(
+            egui::Label::new(
+                RichText::new(note)
+                    .small()
+                    .color(Color32::from_rgb(255, 200, 120)),
+            )
+            .wrap(),
+        );
+    }
     if ui.button("Scene's settings").clicked() {
         let g = st.sim.scene.gravity;
         let settings = st.sim.world.settings_mut();

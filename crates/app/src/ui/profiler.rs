@@ -55,11 +55,11 @@ impl Sweep {
         self.progress = 0.0;
         self.scene = scene.name.clone();
         self.rx = Some(rx);
-        std::thread::Builder::new()
-            .name("thread-sweep".into())
-            .spawn(move || run_sweep(&scene, settings, substeps, max_threads, &tx))
-            .map_err(|e| eprintln!("warning: cannot start the thread sweep: {e}"))
-            .ok();
+        crate::spawn_thread("thread-sweep", move || {
+            run_sweep(&scene, settings, substeps, max_threads, &tx);
+        })
+        .map_err(|e| eprintln!("warning: cannot start the thread sweep: {e}"))
+        .ok();
     }
 
     /// Whether a sweep is under way.

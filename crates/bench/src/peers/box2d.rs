@@ -141,4 +141,11 @@ impl Peer for Box2d {
         let q = ok(body.rotation(), "Box2D rotation")?;
         Ok([p.x, p.y, q.angle()])
     }
+
+    fn velocity(&mut self, index: usize) -> Result<[f32; 3]> {
+        let body = ok(self.world.body(self.ids[index]), "Box2D body")?;
+        let v = ok(body.linear_velocity(), "Box2D linear velocity")?;
+        let w = ok(body.angular_velocity(), "Box2D angular velocity")?;
+        Ok([v.x, v.y, w])
+    }
 }

@@ -1,7 +1,12 @@
 //! The same scene in Box2D v3 (boxdd) and Rapier2D, built from the same `SceneDef` numbers that
 //! tumble's `World::from_scene` reads, with tumble's step settings where the peer has them.
+//!
+//! The [`Peer`] trait is always compiled (the accuracy report steps tumble through it too); the
+//! peers themselves only with the `peers` feature.
 
+#[cfg(feature = "peers")]
 pub mod box2d;
+#[cfg(feature = "peers")]
 pub mod rapier;
 
 use anyhow::Result;
@@ -12,9 +17,13 @@ pub trait Peer {
     fn step(&mut self) -> Result<()>;
     /// Body `index` of the scene: (x, y, angle).
     fn pose(&mut self, index: usize) -> Result<[f32; 3]>;
+    /// Body `index` of the scene: linear velocity of its centre of mass and angular velocity
+    /// (vx, vy, w).
+    fn velocity(&mut self, index: usize) -> Result<[f32; 3]>;
 }
 
 /// A peer error as an `anyhow` error (the peers' error types are not all `Send + Sync`).
+#[cfg(feature = "peers")]
 pub(crate) fn ok<T, E: std::fmt::Display>(r: Result<T, E>, what: &str) -> Result<T> {
     r.map_err(|e| anyhow::anyhow!("{what}: {e}"))
 }

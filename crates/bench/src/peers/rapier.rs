@@ -24,6 +24,19 @@ pub struct Rapier {
     pool: rayon::ThreadPool,
 }
 
+/// Knobs of Rapier's solver that the accuracy report sweeps; `None` keeps Rapier's default.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Tuning {
+    /// Contact spring frequency (Hz) against dynamic bodies; contacts with a fixed body get
+    /// twice it, as Rapier's defaults (30 and 60 Hz) and tumble do.
+    pub contact_hertz: Option<f32>,
+    /// `num_internal_stabilization_iterations`: Rapier's unbiased passes per substep, the
+    /// counterpart of tumble's and Box2D's relax pass.
+    pub stabilization_iterations: Option<usize>,
+    /// `normalized_max_corrective_velocity` (m/s): how fast overlap is pushed out.
+    pub max_corrective_velocity: Option<f32>,
+}
+
 /// rapier2d's crate version.
 pub fn version() -> &'static str {
     rapier2d::VERSION
@@ -32,6 +45,11 @@ pub fn version() -> &'static str {
 impl Rapier {
     /// Builds the scene.
     pub fn new(scene: &SceneDef, threads: usize) -> Result<Rapier> {
+        Rapier::tuned(scene, threads, &Tuning::default())
+    }
+
+    /// Builds the scene with some of Rapier's solver knobs set (see [`Tuning`]).
+    pub fn tuned(scene: &SceneDef, threads: usize, tuning: &Tuning) -> Result<Rapier> {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .thread_name(|i| format!("rapier-bench-{i}"))
@@ -45,6 +63,16 @@ impl Rapier {
         params.dt = scene.dt;
         params.num_solver_iterations = scene.substeps as usize;
         params.max_ccd_substeps = 0;
+        if let Some(hertz) = tuning.contact_hertz {
+            params.contact_softness.natural_frequency = hertz;
+            params.static_contact_softness.natural_frequency = 2.0 * hertz;
+        }
+        if let Some(n) = tuning.stabilization_iterations {
+            params.num_internal_stabilization_iterations = n;
+        }
+        if let Some(v) = tuning.max_corrective_velocity {
+            params.normalized_max_corrective_velocity = v;
+        }
         let mut handles = Vec::with_capacity(scene.bodies.len());
         for (i, b) in scene.bodies.iter().enumerate() {
             let builder = match b.kind {
@@ -107,5 +135,11 @@ impl Peer for Rapier {
         let body = &self.world.bodies[self.handles[index]];
         let p = body.translation();
         Ok([p.x, p.y, body.rotation().angle()])
+    }
+
+    fn velocity(&mut self, index: usize) -> Result<[f32; 3]> {
+        let body = &self.world.bodies[self.handles[index]];
+        let v = body.linvel();
+        Ok([v.x, v.y, body.angvel()])
     }
 }
