@@ -50,8 +50,8 @@ const LOAD_TIMEOUT = 120_000;
 const TEST_TIMEOUT = 240_000;
 
 /// A page that records every console error and uncaught exception.
-async function openPage(browser, url) {
-  const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+async function openPage(browser, url, { width = 1280, height = 800, deviceScaleFactor = 1 } = {}) {
+  const page = await browser.newPage({ viewport: { width, height }, deviceScaleFactor });
   await page.addInitScript(canvasReadback);
   const errors = [];
   page.on('console', (message) => {
@@ -68,8 +68,9 @@ async function openPage(browser, url) {
 
 const state = (page) => page.evaluate(() => ({ ...window.tumble }));
 
-/// Waits until `predicate(window.tumble)` holds (a function's source, run in the page).
-async function until(page, predicate, timeout = 30_000) {
+/// Waits until the JavaScript expression `predicate` holds in the page, then returns
+/// `window.tumble`.
+async function until(page, predicate, timeout = 90_000) {
   await page.waitForFunction(predicate, null, { timeout, polling: 100 });
   return state(page);
 }
@@ -163,7 +164,7 @@ for (const backend of BACKENDS) {
       await page.mouse.up();
       if (s.threads !== 2) s = await until(page, 'window.tumble.threads === 2', 5_000);
       assert.equal(s.threads, 2, 'the engine reports 2 threads');
-      const after2 = await until(page, `window.tumble.steps >= ${s.steps + 60}`);
+      const after2 = await until(page, `window.tumble.steps >= ${s.steps + 20}`);
       assert.ok(after2.steps > s.steps, 'the simulation keeps stepping on 2 threads');
       assert.equal(after2.threads, 2);
       // The slider's value persists (localStorage).
@@ -186,6 +187,69 @@ for (const backend of BACKENDS) {
     });
   });
 }
+
+describe('web build, the canvas', () => {
+  let browser;
+  before(async () => {
+    // A real device-pixel ratio of 2 (Playwright's emulation alone changes devicePixelRatio
+    // but not the canvas's device-pixel size that the ResizeObserver reports).
+    browser = await chromium.launch({
+      executablePath: CHROMIUM,
+      args: [...BASE_FLAGS, '--force-device-scale-factor=2'],
+      headless: true,
+    });
+  });
+  after(async () => {
+    await browser?.close();
+  });
+
+  test('fills the window and follows its size and device-pixel ratio', { timeout: TEST_TIMEOUT }, async () => {
+    const { page, errors } = await openPage(browser, `${URL}?scene=pyramid`, {
+      width: 800,
+      height: 600,
+      deviceScaleFactor: 2,
+    });
+    let s = await until(page, 'window.tumble.size[0] === 1600 && window.tumble.size[1] === 1200');
+    assert.deepEqual(s.size, [1600, 1200], 'physical pixels at a device-pixel ratio of 2');
+    await page.setViewportSize({ width: 640, height: 480 });
+    s = await until(page, 'window.tumble.size[0] === 1280 && window.tumble.size[1] === 960');
+    assert.deepEqual(s.size, [1280, 960], 'after the window shrank');
+    const frames = s.frames;
+    s = await until(page, `window.tumble.frames >= ${frames + 5}`);
+    assert.ok(s.frames > frames, 'frames go on after the resize');
+    assert.deepEqual(errors, [], 'no console errors');
+    await page.close();
+  });
+});
+
+describe('web build, a panic', () => {
+  let browser;
+  before(async () => {
+    browser = await chromium.launch({ executablePath: CHROMIUM, args: BASE_FLAGS, headless: true });
+  });
+  after(async () => {
+    await browser?.close();
+  });
+
+  test('shows its message over the page and in the console', { timeout: TEST_TIMEOUT }, async () => {
+    const { page, errors } = await openPage(browser, `${URL}?scene=pyramid`);
+    assert.equal(await page.locator('#tumble-error').isVisible(), false, 'no error box before');
+    // The module's test hook panics in Rust (the same instance the page runs).
+    await page.evaluate(async () => {
+      const pkg = await import(new URL('pkg/tumble.js', location.href).href);
+      try {
+        pkg.testPanic();
+      } catch {
+        // The panic aborts the call: WebAssembly's `unreachable`.
+      }
+    });
+    const box = page.locator('#tumble-error');
+    assert.equal(await box.isVisible(), true, 'the error box shows');
+    assert.match(await box.textContent(), /tumble stopped: .*a test asked for this panic/s);
+    assert.ok(errors.some((e) => e.includes('a test asked for this panic')), 'and the console has it');
+    await page.close();
+  });
+});
 
 describe('web build, not cross-origin isolated', { skip: !URL_NOT_ISOLATED && 'TUMBLE_URL_NOT_ISOLATED is not set' }, () => {
   let browser;

@@ -50,6 +50,13 @@ pub fn take_panic() -> Option<String> {
     PANIC.try_lock().ok().and_then(|mut slot| slot.take())
 }
 
+/// Panics on purpose, for the test that the message shows over the page.
+#[wasm_bindgen(js_name = testPanic)]
+#[doc(hidden)]
+pub fn test_panic() {
+    panic!("a test asked for this panic (testPanic)");
+}
+
 /// Shows `message` over the page, in the element `#tumble-error` (made if missing). Does
 /// nothing where there is no page (in a worker).
 pub fn show_error(message: &str) {
