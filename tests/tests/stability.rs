@@ -100,6 +100,16 @@ fn builtin_vertical_stack_stands_10_s() {
     check_column(&builtin("vertical_stack"));
 }
 
+/// The largest distance any body moved from `start`, and which body.
+fn largest_displacement(world: &World, start: &[Vec2]) -> (f32, usize) {
+    positions(world)
+        .iter()
+        .zip(start)
+        .enumerate()
+        .map(|(i, (p, s))| ((*p - *s).length(), i))
+        .fold((0.0_f32, 0), |a, b| if b.0 > a.0 { b } else { a })
+}
+
 #[test]
 fn pyramid_20_rows_holds_still_10_s() {
     let scene = builtin("pyramid");
@@ -107,12 +117,7 @@ fn pyramid_20_rows_holds_still_10_s() {
     let start = positions(&w);
     run(&mut w, &scene, 600);
     assert!(all_finite(&w), "pyramid: non-finite state");
-    let (worst, body) = positions(&w)
-        .iter()
-        .zip(&start)
-        .enumerate()
-        .map(|(i, (p, s))| ((*p - *s).length(), i))
-        .fold((0.0_f32, 0), |a, b| if b.0 > a.0 { b } else { a });
+    let (worst, body) = largest_displacement(&w, &start);
     eprintln!("pyramid: largest displacement {worst} m (body {body})");
     // 0.1 m: a tenth of a box. A pyramid that creeps or slumps moves its outer boxes by much
     // more in 10 s; a standing one settles by the soft contacts' steady-state overlap (see
@@ -131,12 +136,7 @@ fn card_house_stands_10_s() {
     let start = positions(&w);
     run(&mut w, &scene, 600);
     assert!(all_finite(&w), "card_house: non-finite state");
-    let (worst, body) = positions(&w)
-        .iter()
-        .zip(&start)
-        .enumerate()
-        .map(|(i, (p, s))| ((*p - *s).length(), i))
-        .fold((0.0_f32, 0), |a, b| if b.0 > a.0 { b } else { a });
+    let (worst, body) = largest_displacement(&w, &start);
     eprintln!("card_house: largest displacement {worst} m (body {body})");
     // 0.1 m: a quarter of a card's 0.4 m height; a card that slips falls by a card height or
     // more. Measured: 3.6 cm (the top tent settling); Box2D v3.2 on the same scene, measured
