@@ -30,7 +30,7 @@ mod native {
     }
 
     pub fn main() -> ExitCode {
-        install_panic_hook();
+        tumble_scene::cli::install_panic_hook("tumble");
         let cli = match Cli::try_parse() {
             Ok(cli) => cli,
             Err(e) => {
@@ -48,46 +48,9 @@ mod native {
         match result {
             Ok(_) => ExitCode::SUCCESS,
             Err(e) => {
-                eprintln!("error: {}", message(&e));
+                eprintln!("error: {}", tumble_scene::cli::one_line(e.as_ref()));
                 ExitCode::from(2)
             }
         }
-    }
-
-    /// The error and its causes on one line, leaving out a cause its parent already spells
-    /// out.
-    fn message(e: &anyhow::Error) -> String {
-        let mut text = String::new();
-        for cause in e.chain() {
-            let part = cause.to_string();
-            if text.contains(&part) {
-                continue;
-            }
-            if !text.is_empty() {
-                text.push_str(": ");
-            }
-            text.push_str(&part);
-        }
-        text
-    }
-
-    /// A bug must still end in one line a person can report, never in a wall of runtime
-    /// output.
-    fn install_panic_hook() {
-        std::panic::set_hook(Box::new(|info| {
-            let payload = info.payload();
-            let what = payload
-                .downcast_ref::<&str>()
-                .map(|s| s.to_string())
-                .or_else(|| payload.downcast_ref::<String>().cloned())
-                .unwrap_or_else(|| "unknown failure".to_string());
-            let place = info
-                .location()
-                .map(|l| format!(" at {}:{}", l.file(), l.line()))
-                .unwrap_or_default();
-            eprintln!(
-                "error: internal error{place}: {what} (a bug in tumble; please report it with the command that was run)"
-            );
-        }));
     }
 }

@@ -6,6 +6,7 @@
 //! naming the file, the place (`line:column`, or `body N` and the field) and what is allowed.
 
 pub mod builtin;
+pub mod cli;
 
 use std::fmt;
 use std::fs::File;
