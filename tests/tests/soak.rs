@@ -1,8 +1,9 @@
 //! A short soak: 2,000 bodies for 5,000 steps (83 s of simulated time) must stay finite and
-//! keep its memory bounded. The long version (20,000 bodies, 100,000 steps) is for a person
-//! to run, not CI; its figures are in the reliability notes.
+//! keep its memory bounded. The long version (`tumble-bench soak`: 20,000 bodies, 100,000
+//! steps) is for a person to run, not CI; its figures are in the README's reliability notes.
 
-use tumble_physics::{BodyDef, BodyKind, Limits, SceneDef, ShapeDef, World};
+use tumble_physics::{Limits, World};
+use tumble_scene::builtin::soak_pile;
 use tumble_tests::all_finite;
 
 /// Resident memory of this process in bytes, from /proc (Linux, where CI runs).
@@ -12,46 +13,10 @@ fn resident_bytes() -> u64 {
     pages * 4096
 }
 
-/// A closed 40 m box with 2,000 circles and boxes dropped in a loose grid: they fall, pile up,
-/// slide and keep touching, so contacts are created and destroyed all along.
-fn pile(n: usize) -> SceneDef {
-    let mut scene = SceneDef::new("soak");
-    let wall = |x: f32, y: f32, hx: f32, hy: f32| {
-        BodyDef::new(ShapeDef::Box {
-            half_extents: [hx, hy],
-        })
-        .kind(BodyKind::Static)
-        .at(x, y)
-    };
-    scene.push(wall(0.0, -0.5, 21.0, 0.5));
-    scene.push(wall(-20.5, 30.0, 0.5, 30.0));
-    scene.push(wall(20.5, 30.0, 0.5, 30.0));
-    let columns = 50;
-    for i in 0..n {
-        let x =
-            -19.0 + (i % columns) as f32 * 0.78 + if (i / columns) % 2 == 0 { 0.0 } else { 0.3 };
-        let y = 1.0 + (i / columns) as f32 * 0.9;
-        let shape = if i % 3 == 0 {
-            ShapeDef::Box {
-                half_extents: [0.3, 0.25],
-            }
-        } else {
-            ShapeDef::Circle {
-                radius: 0.22 + 0.1 * (i % 5) as f32 / 5.0,
-            }
-        };
-        scene.push(
-            BodyDef::new(shape)
-                .at(x, y)
-                .restitution(if i % 7 == 0 { 0.5 } else { 0.0 }),
-        );
-    }
-    scene
-}
-
 #[test]
 fn two_thousand_bodies_for_five_thousand_steps() {
-    let scene = pile(2000);
+    // 2,000 circles and boxes dropped into a closed 40 m box (the pile of `tumble-bench soak`).
+    let scene = soak_pile(2000);
     let mut w = World::from_scene(&scene, &Limits::default()).unwrap();
     w.set_thread_count(2);
     // Warm up: buffers reach their working size while the pile forms.

@@ -17,6 +17,7 @@ pub mod app;
 pub mod camera;
 pub mod cli;
 pub mod input;
+pub mod metrics;
 pub mod render;
 pub mod settings;
 pub mod sim;

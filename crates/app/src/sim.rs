@@ -11,7 +11,7 @@ use std::sync::Arc;
 
 use anyhow::{Context, Result};
 use glam::Vec2;
-use tumble_physics::{BodyKind, Rot, SceneDef, StepSettings, World};
+use tumble_physics::{BodyKind, Rot, SceneDef, StepSettings, World, WorldSnapshot};
 use tumble_scene::LoadLimits;
 
 /// The longest frame the clock accepts (s): a frame that took longer (a window drag, a
@@ -139,6 +139,129 @@ pub struct ProfileSample {
     pub stages: [(&'static str, f64); 6],
 }
 
+/// Seconds of the past the replay can go back to.
+pub const REPLAY_SECONDS: f64 = 10.0;
+/// Most memory the replay's snapshots may hold; a world too big for [`REPLAY_SECONDS`] of
+/// one-second snapshots within it keeps fewer seconds (22,000 bodies: about 13 MB each).
+pub const REPLAY_BYTES: usize = 192 << 20;
+
+/// What a step was taken with, beyond the world itself: what a replay must apply again to
+/// reproduce it bit for bit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct StepInput {
+    drag: Option<Drag>,
+    substeps: u32,
+    settings: StepSettings,
+}
+
+/// The last seconds of the run: a snapshot of the world every second and the input of every
+/// step since the oldest one. The simulation is deterministic, so restoring a snapshot and
+/// stepping with the recorded inputs gives the recorded states again, bit for bit.
+#[derive(Default)]
+pub struct Recording {
+    /// `(steps since the world was built, the world then)`, oldest first.
+    snapshots: VecDeque<(u64, WorldSnapshot)>,
+    /// The input of each step from the oldest snapshot on, in order.
+    inputs: VecDeque<StepInput>,
+    bytes: usize,
+}
+
+impl Recording {
+    /// Seconds of the past it holds, at `dt` per step.
+    pub fn seconds(&self, dt: f32) -> f64 {
+        self.inputs.len() as f64 * f64::from(dt)
+    }
+
+    fn clear(&mut self) {
+        *self = Recording::default();
+    }
+
+    /// Called before step `step` (counted from the build) is taken.
+    fn record(&mut self, step: u64, world: &World, input: StepInput, steps_per_snapshot: u64) {
+        let due = step.is_multiple_of(steps_per_snapshot) || self.snapshots.is_empty();
+        if due && self.snapshots.back().is_none_or(|&(s, _)| s != step) {
+            let snapshot = world.snapshot();
+            self.bytes += snapshot.approx_bytes();
+            self.snapshots.push_back((step, snapshot));
+            // One snapshot a second: REPLAY_SECONDS of them, plus the one the oldest second
+            // starts from.
+            let keep = REPLAY_SECONDS as usize + 1;
+            while self.snapshots.len() > keep
+                || (self.bytes > REPLAY_BYTES && self.snapshots.len() > 2)
+            {
+                let (_, old) = self.snapshots.pop_front().expect("more than two");
+                self.bytes -= old.approx_bytes();
+                let first = self.snapshots.front().expect("one left").0;
+                let drop = self.inputs.len() - (step - first) as usize;
+                self.inputs.drain(..drop);
+            }
+        }
+        self.inputs.push_back(input);
+    }
+
+    /// Forgets everything from step `step` on (the replay was stopped there: the future
+    /// recorded beyond it will not happen now).
+    fn truncate_at(&mut self, step: u64) {
+        while self.snapshots.back().is_some_and(|&(s, _)| s > step) {
+            let (_, old) = self.snapshots.pop_back().expect("checked");
+            self.bytes -= old.approx_bytes();
+        }
+        let first = self.snapshots.front().map_or(step, |&(s, _)| s);
+        self.inputs.truncate(step.saturating_sub(first) as usize);
+    }
+}
+
+/// A replay in progress: the world was restored to an older step and steps forward with the
+/// recorded inputs until it is back where it was when the replay started.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Replay {
+    /// The step (since the build) the replay started from, and where it ends.
+    pub until: u64,
+    /// The step it went back to.
+    pub from: u64,
+}
+
+/// A saved world with what it needs to go on exactly: its scene (for restart), its steps and
+/// substeps. Written to files as JSON (f32 values shortest-round-trip, so they read back bit
+/// for bit).
+#[derive(Clone, serde::Serialize, serde::Deserialize)]
+pub struct SavedWorld {
+    /// Always [`SavedWorld::FORMAT`]: refuses other JSON files with a clear message.
+    pub format: String,
+    /// The scene the world was built from.
+    pub scene: SceneDef,
+    /// Steps since the world was built.
+    pub steps: u64,
+    /// Substeps per step in use.
+    pub substeps: u32,
+    /// The world.
+    pub world: WorldSnapshot,
+}
+
+impl SavedWorld {
+    /// The `format` tag of a snapshot file.
+    pub const FORMAT: &'static str = "tumble-snapshot-1";
+
+    /// Reads a snapshot file written by [`SavedWorld::to_json`].
+    pub fn from_json(text: &str, file: &str) -> Result<SavedWorld> {
+        let saved: SavedWorld = serde_json::from_str(text)
+            .with_context(|| format!("{file}: not a tumble snapshot file"))?;
+        if saved.format != Self::FORMAT {
+            anyhow::bail!(
+                "{file}: snapshot format `{}`; allowed: `{}` (written by this viewer's Save snapshot)",
+                saved.format,
+                Self::FORMAT
+            );
+        }
+        Ok(saved)
+    }
+
+    /// The file's text.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string(self).expect("a snapshot is plain data")
+    }
+}
+
 /// The world with everything the viewer drives it with.
 pub struct Sim {
     /// The scene as loaded: restart and the thread sweep start from it.
@@ -161,6 +284,12 @@ pub struct Sim {
     pub total_step_ms: f64,
     /// The last seconds of per-stage timings.
     pub history: VecDeque<ProfileSample>,
+    /// The last seconds of the run, for the replay.
+    pub recording: Recording,
+    /// The replay in progress, if any.
+    pub replay: Option<Replay>,
+    /// The scene's error metric, measured after each frame's steps.
+    pub metrics: crate::metrics::Metrics,
 }
 
 /// Seconds of simulated time the profile history keeps.
@@ -181,7 +310,11 @@ impl Sim {
             total_steps: 0,
             total_step_ms: 0.0,
             history: VecDeque::new(),
+            recording: Recording::default(),
+            replay: None,
+            metrics: crate::metrics::Metrics::default(),
         };
+        sim.metrics = crate::metrics::Metrics::new(&sim.scene, &sim.world);
         sim.set_threads(threads);
         Ok(sim)
     }
@@ -222,6 +355,89 @@ impl Sim {
         self.drag = None;
         self.steps = 0;
         self.history.clear();
+        self.recording.clear();
+        self.replay = None;
+        self.metrics = crate::metrics::Metrics::new(&self.scene, &self.world);
+    }
+
+    /// Goes back to the oldest second the recording holds (up to [`REPLAY_SECONDS`]) and
+    /// plays the steps since again, with the inputs they had (mouse spring, substeps,
+    /// settings), until the world is back where it is now. Returns false with nothing
+    /// recorded yet.
+    pub fn start_replay(&mut self) -> bool {
+        let until = self.replay.map_or(self.steps, |r| r.until);
+        let Some((from, snapshot)) = self.recording.snapshots.front() else {
+            return false;
+        };
+        let (from, snapshot) = (*from, snapshot.clone());
+        if from >= until {
+            return false;
+        }
+        self.restore_world(snapshot, from);
+        self.replay = Some(Replay { until, from });
+        true
+    }
+
+    /// Ends a replay where it is: the simulation goes on live from here, and the recorded
+    /// future beyond this step is forgotten.
+    pub fn stop_replay(&mut self) {
+        if self.replay.take().is_some() {
+            self.recording.truncate_at(self.steps);
+        }
+    }
+
+    /// The world as it is, to save (see [`SavedWorld`]).
+    pub fn save(&self) -> SavedWorld {
+        SavedWorld {
+            format: SavedWorld::FORMAT.to_string(),
+            scene: (*self.scene).clone(),
+            steps: self.steps,
+            substeps: self.substeps,
+            world: self.world.snapshot(),
+        }
+    }
+
+    /// Puts a saved world back (its scene too, for restart), keeping the thread count. It
+    /// then goes on exactly as the saved one would have.
+    pub fn restore(&mut self, saved: SavedWorld) -> Result<()> {
+        if saved.world.body_count() != saved.scene.bodies.len() {
+            anyhow::bail!(
+                "snapshot of `{}`: {} bodies in the world but {} in its scene; allowed: a file written by Save snapshot",
+                saved.scene.name,
+                saved.world.body_count(),
+                saved.scene.bodies.len()
+            );
+        }
+        let scene_changed = *self.scene != saved.scene;
+        let threads = self.world.thread_count();
+        let world = World::from_snapshot(saved.world)
+            .with_context(|| format!("snapshot of `{}`", saved.scene.name))?;
+        if scene_changed {
+            self.clock = FixedStep::new(saved.scene.dt);
+            self.scene = Arc::new(saved.scene);
+        }
+        self.world = world;
+        self.world.set_thread_count(threads);
+        self.substeps = saved.substeps;
+        self.steps = saved.steps;
+        self.drag = None;
+        self.history.clear();
+        self.recording.clear();
+        self.replay = None;
+        self.metrics = crate::metrics::Metrics::new(&self.scene, &build_world(&self.scene)?);
+        Ok(())
+    }
+
+    fn restore_world(&mut self, snapshot: WorldSnapshot, steps: u64) {
+        let threads = self.world.thread_count();
+        // The snapshot was taken from this world, so it is consistent.
+        if let Ok(world) = World::from_snapshot(snapshot) {
+            self.world = world;
+            self.world.set_thread_count(threads);
+            self.steps = steps;
+            self.drag = None;
+            self.clock.reset();
+        }
     }
 
     /// Advances by one frame's duration: as many fixed steps as the clock hands out (none
@@ -235,20 +451,48 @@ impl Sim {
         for _ in 0..steps {
             self.step_once();
         }
+        if steps > 0 {
+            self.metrics.measure(&self.world);
+        }
         steps
     }
 
     /// One step now, whether running or not.
     pub fn single_step(&mut self) {
         self.step_once();
+        self.metrics.measure(&self.world);
     }
 
     fn step_once(&mut self) {
         let dt = self.scene.dt;
-        if let Some(drag) = self.drag {
+        let input = match self.replay {
+            Some(replay) => {
+                let first = self.recording.snapshots.front().map_or(0, |&(s, _)| s);
+                let recorded = self.recording.inputs[(self.steps - first) as usize];
+                if self.steps + 1 >= replay.until {
+                    // This is the last replayed step: live from the next one on.
+                    self.replay = None;
+                }
+                *self.world.settings_mut() = recorded.settings;
+                self.substeps = recorded.substeps;
+                recorded
+            }
+            None => {
+                let input = StepInput {
+                    drag: self.drag,
+                    substeps: self.substeps.max(1),
+                    settings: *self.world.settings(),
+                };
+                let per_second = (1.0 / f64::from(dt)).round().max(1.0) as u64;
+                self.recording
+                    .record(self.steps, &self.world, input, per_second);
+                input
+            }
+        };
+        if let Some(drag) = input.drag {
             drag.apply(&mut self.world, dt);
         }
-        self.world.step(dt, self.substeps.max(1));
+        self.world.step(dt, input.substeps);
         self.steps += 1;
         self.total_steps += 1;
         let profile = self.world.profile();
@@ -364,5 +608,119 @@ mod tests {
         assert!((p - Vec2::new(3.0, 2.0)).length() < 0.05, "{p}");
         // Nothing to hold in empty space.
         assert!(!sim.grab(Vec2::new(-5.0, -5.0)));
+    }
+
+    /// Steps `sim` `n` times, pulling body `body` on the mouse spring during steps 60..150
+    /// and switching to 6 substeps from step 150: inputs a replay must reproduce.
+    fn drive(sim: &mut Sim, n: u64, body: usize) {
+        for _ in 0..n {
+            let i = sim.steps;
+            if i == 60 {
+                let p = sim.world.body(body).position;
+                assert!(sim.grab(p));
+                sim.drag.as_mut().unwrap().target = p + Vec2::new(2.0, 3.0);
+            }
+            if i == 150 {
+                sim.drag = None;
+                sim.substeps = 6;
+            }
+            sim.single_step();
+        }
+    }
+
+    #[test]
+    fn a_replay_ends_where_the_run_was_bit_for_bit() {
+        let mut sim = Sim::new(scene("falling_circles"), 2).unwrap();
+        let body = sim.world.body_count() - 1;
+        drive(&mut sim, 240, body);
+        let (hash, steps) = (sim.world.state_hash(), sim.steps);
+        // 4 s recorded, all of it within the replay's reach.
+        assert!((sim.recording.seconds(sim.scene.dt) - 4.0).abs() < 1e-6);
+        assert!(sim.start_replay());
+        assert_eq!(
+            sim.replay,
+            Some(Replay {
+                until: 240,
+                from: 0
+            })
+        );
+        assert_eq!(sim.steps, 0);
+        assert_ne!(sim.world.state_hash(), hash);
+        // The live drag is ignored while replaying: the recorded one is applied.
+        sim.drag = None;
+        while sim.replay.is_some() {
+            sim.single_step();
+        }
+        assert_eq!(sim.steps, steps);
+        assert_eq!(sim.world.state_hash(), hash);
+        assert_eq!(sim.substeps, 6);
+    }
+
+    #[test]
+    fn the_recording_keeps_ten_seconds_and_a_stopped_replay_goes_on_live() {
+        let mut sim = Sim::new(scene("vertical_stack"), 1).unwrap();
+        for _ in 0..900 {
+            sim.single_step();
+        }
+        // One snapshot a second (60 steps): between 10 and 11 seconds back.
+        let held = sim.recording.inputs.len() as u64;
+        assert!((600..=660).contains(&held), "{held} steps");
+        assert!(sim.start_replay());
+        let replay = sim.replay.unwrap();
+        assert_eq!(replay.until, 900);
+        assert_eq!(replay.from, 900 - held);
+        for _ in 0..30 {
+            sim.single_step();
+        }
+        sim.stop_replay();
+        assert_eq!(sim.replay, None);
+        assert_eq!(sim.recording.inputs.len() as u64, sim.steps - replay.from);
+        // Live again, recording again, and replaying again reaches back as before.
+        for _ in 0..120 {
+            sim.single_step();
+        }
+        assert_eq!(sim.recording.inputs.len() as u64, sim.steps - replay.from);
+        assert!(sim.start_replay());
+    }
+
+    #[test]
+    fn a_saved_world_read_back_from_its_file_goes_on_bit_for_bit() {
+        let mut sim = Sim::new(scene("falling_circles"), 1).unwrap();
+        let body = sim.world.body_count() - 1;
+        drive(&mut sim, 100, body);
+        let text = sim.save().to_json();
+
+        // Into a viewer that shows another scene: the saved one comes back with it.
+        let mut other = Sim::new(scene("pyramid"), 2).unwrap();
+        other
+            .restore(SavedWorld::from_json(&text, "saved.json").unwrap())
+            .unwrap();
+        assert_eq!(other.scene.name, "falling_circles");
+        assert_eq!(other.steps, 100);
+        assert_eq!(other.world.thread_count(), 2);
+        // A restored world holds no body on the mouse spring; neither does the run it is
+        // compared with from step 100 on.
+        let mut first = Sim::new(scene("falling_circles"), 1).unwrap();
+        drive(&mut first, 100, body);
+        first.drag = None;
+        for _ in 0..120 {
+            first.single_step();
+            other.single_step();
+        }
+        assert_eq!(first.world.state_hash(), other.world.state_hash());
+
+        let err = SavedWorld::from_json("{\"format\": \"x\"}", "saved.json")
+            .err()
+            .unwrap();
+        assert!(format!("{err:#}").contains("saved.json: not a tumble snapshot file"));
+        let mut wrong: serde_json::Value = serde_json::from_str(&text).unwrap();
+        wrong["format"] = "tumble-snapshot-0".into();
+        let err = SavedWorld::from_json(&wrong.to_string(), "old.json")
+            .err()
+            .unwrap();
+        assert!(
+            format!("{err:#}").contains("allowed: `tumble-snapshot-1`"),
+            "{err:#}"
+        );
     }
 }

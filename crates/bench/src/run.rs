@@ -122,7 +122,15 @@ pub fn run(args: &RunArgs) -> Result<()> {
 
     let mut step_ms = 0.0f64;
     let mut stage_ms: Vec<(&'static str, f64)> = Vec::new();
+    // A long run (a million bodies steps slowly) shows its progress; indicatif draws nothing
+    // when stderr is not a terminal, so scripts see only the JSON.
+    let bar = indicatif::ProgressBar::new(u64::from(steps));
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} steps, eta {eta}")
+            .expect("a valid template"),
+    );
     for _ in 0..steps {
+        bar.inc(1);
         world.step(scene.dt, scene.substeps);
         let profile = world.profile();
         step_ms += profile.step_ms;
@@ -134,6 +142,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
             sum.1 += ms;
         }
     }
+    bar.finish_and_clear();
     let mean = |total: f64| {
         if steps == 0 {
             0.0

@@ -496,3 +496,54 @@ fn help_exits_zero() {
         assert!(help.contains(flag), "help lacks {flag}:\n{help}");
     }
 }
+
+#[test]
+fn soak_reports_memory_and_finiteness_at_each_checkpoint() {
+    // A small pile, long enough for it to fall and touch: 300 bodies for 300 steps.
+    let out_file = TempFile::new("soak.json", b"");
+    let out = bench(&[
+        "soak",
+        "--bodies",
+        "300",
+        "--steps",
+        "300",
+        "--threads",
+        "2",
+        "--checkpoints",
+        "3",
+        "--out",
+        out_file.path(),
+    ]);
+    assert!(
+        out.status.success(),
+        "exit {:?}, stderr:\n{}",
+        out.status,
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(stdout.lines().filter(|l| l.starts_with("step ")).count(), 3);
+    let summary: Value =
+        serde_json::from_slice(&std::fs::read(&out_file.0).unwrap()).expect("JSON summary");
+    // 300 dynamic bodies plus the ground and two walls.
+    assert_eq!(summary["bodies"], 303);
+    assert_eq!(summary["steps"], 300);
+    assert_eq!(summary["finite"], true);
+    assert_eq!(summary["guard_fired"], 0);
+    let checkpoints = summary["checkpoints"].as_array().unwrap();
+    assert_eq!(checkpoints.len(), 3);
+    assert_eq!(checkpoints[2]["step"], 300);
+    // The pile has formed by the end: most bodies touch one or two others.
+    assert!(checkpoints[2]["contacts"].as_u64().unwrap() > 300);
+    // The kernel's high-water mark is at least the resident size it was taken beside.
+    let peak = summary["peak_resident_kb"].as_u64().unwrap();
+    assert!(peak >= checkpoints[2]["resident_kb"].as_u64().unwrap() && peak > 0);
+}
+
+#[test]
+fn soak_refuses_a_bad_flag() {
+    let out = bench(&["soak", "--bodies", "0"]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("--bodies"), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}

@@ -196,6 +196,28 @@ pub struct WorldSnapshot {
     speed_caps: u64,
 }
 
+impl WorldSnapshot {
+    /// Bytes its arrays hold in memory (their lengths times their element sizes): what a
+    /// caller keeping many snapshots (the viewer's replay) budgets with.
+    pub fn approx_bytes(&self) -> usize {
+        use std::mem::size_of_val;
+        std::mem::size_of::<Self>()
+            + size_of_val(&self.shapes[..])
+            + size_of_val(&self.sims[..])
+            + size_of_val(&self.states[..])
+            + size_of_val(&self.fat_aabbs[..])
+            + size_of_val(&self.solver_bodies[..])
+            + size_of_val(&self.motion[..])
+            + size_of_val(&self.moved[..])
+            + size_of_val(&self.contacts[..])
+    }
+
+    /// Bodies in the snapshot.
+    pub fn body_count(&self) -> usize {
+        self.sims.len()
+    }
+}
+
 /// A 2D rigid-body world.
 pub struct World {
     settings: StepSettings,
@@ -581,6 +603,13 @@ impl World {
     /// A body's mass (kg); zero for static and kinematic bodies.
     pub fn mass(&self, index: usize) -> f32 {
         let inv = self.solver_bodies[index].inv_mass;
+        if inv > 0.0 { 1.0 / inv } else { 0.0 }
+    }
+
+    /// A body's rotational inertia about its centre of mass (kg·m²; 0 for static, kinematic
+    /// and fixed-rotation bodies).
+    pub fn inertia(&self, index: usize) -> f32 {
+        let inv = self.solver_bodies[index].inv_inertia;
         if inv > 0.0 { 1.0 / inv } else { 0.0 }
     }
 

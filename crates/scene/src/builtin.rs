@@ -238,6 +238,50 @@ fn push_pyramid(scene: &mut SceneDef, base_count: usize, h: f32) {
     }
 }
 
+/// The soak pile (`tumble-bench soak` and the soak test): `n` circles and boxes dropped in a
+/// loose staggered grid into an open-topped box of static walls. They fall, pile up, slide
+/// and keep touching, so contacts are created and destroyed all along; one body in seven
+/// bounces. The box widens with the square root of `n` so the pile stays about as tall as it
+/// is wide (2,000 bodies: 50 columns, 40 m wide).
+pub fn soak_pile(n: usize) -> SceneDef {
+    let mut scene = SceneDef::new("soak");
+    let columns = ((n as f32 / 2000.0).sqrt() * 50.0).round().max(10.0) as usize;
+    let rows = n.div_ceil(columns);
+    let x0 = -19.0 * columns as f32 / 50.0;
+    let half_width = -x0 + 1.5;
+    let wall_half_height = (rows as f32 * 0.75).max(30.0);
+    scene.push(static_box(half_width + 0.5, 0.5, 0.0, -0.5));
+    scene.push(static_box(
+        0.5,
+        wall_half_height,
+        -half_width,
+        wall_half_height,
+    ));
+    scene.push(static_box(
+        0.5,
+        wall_half_height,
+        half_width,
+        wall_half_height,
+    ));
+    for i in 0..n {
+        let stagger = if (i / columns).is_multiple_of(2) {
+            0.0
+        } else {
+            0.3
+        };
+        let x = x0 + (i % columns) as f32 * 0.78 + stagger;
+        let y = 1.0 + (i / columns) as f32 * 0.9;
+        let shape = if i.is_multiple_of(3) {
+            rect(0.3, 0.25)
+        } else {
+            circle(0.22 + 0.1 * (i % 5) as f32 / 5.0)
+        };
+        let restitution = if i.is_multiple_of(7) { 0.5 } else { 0.0 };
+        scene.push(BodyDef::new(shape).at(x, y).restitution(restitution));
+    }
+    scene
+}
+
 // ---------------------------------------------------------------------------------------------
 // Showcase
 

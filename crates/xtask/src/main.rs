@@ -4,6 +4,7 @@
 //! what a step needs first: a rustup component, or Debian packages. A task is a list of
 //! [`Step`]s; to add a check, add a step to the list (with the packages it needs).
 
+mod fuzz;
 mod png;
 mod web;
 
@@ -22,7 +23,7 @@ tasks:
           the steps need when they are missing)";
 
 fn usage() -> String {
-    format!("{USAGE_HEAD}\n{}", web::USAGE)
+    format!("{USAGE_HEAD}\n{}\n{}", web::USAGE, fuzz::USAGE)
 }
 
 /// What the viewer's steps need: Mesa's software Vulkan (lavapipe) and GL, so wgpu finds an
@@ -57,6 +58,13 @@ fn main() -> ExitCode {
             Ok(()) => ExitCode::SUCCESS,
             Err(e) => {
                 eprintln!("error: cargo xtask web: {e}");
+                ExitCode::FAILURE
+            }
+        },
+        Some("fuzz") => match fuzz::task(&workspace_root(), &args[1..]) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(e) => {
+                eprintln!("error: cargo xtask fuzz: {e}");
                 ExitCode::FAILURE
             }
         },

@@ -206,18 +206,19 @@ fn copy_dir(from: &Path, to: &Path) -> Result<(), String> {
     Ok(())
 }
 
-/// Makes sure the nightly toolchain is there with `rust-src` (for `-Z build-std`) and the
-/// wasm32 target.
-fn ensure_nightly() -> Result<(), String> {
-    let listed = |args: &[&str]| -> String {
-        Command::new("rustup")
-            .args(args)
-            .stderr(Stdio::null())
-            .output()
-            .map(|o| String::from_utf8_lossy(&o.stdout).into_owned())
-            .unwrap_or_default()
-    };
-    if !listed(&["toolchain", "list"])
+/// What `rustup ARGS` prints on stdout ("" if it cannot run).
+fn rustup_listed(args: &[&str]) -> String {
+    Command::new("rustup")
+        .args(args)
+        .stderr(Stdio::null())
+        .output()
+        .map(|o| String::from_utf8_lossy(&o.stdout).into_owned())
+        .unwrap_or_default()
+}
+
+/// Makes sure the nightly toolchain is there (for the web build and the fuzzer).
+pub fn ensure_nightly_toolchain() -> Result<(), String> {
+    if !rustup_listed(&["toolchain", "list"])
         .lines()
         .any(|l| l.starts_with("nightly"))
     {
@@ -233,6 +234,14 @@ fn ensure_nightly() -> Result<(), String> {
             "rustup toolchain install nightly --profile minimal",
         )?;
     }
+    Ok(())
+}
+
+/// Makes sure the nightly toolchain is there with `rust-src` (for `-Z build-std`) and the
+/// wasm32 target.
+fn ensure_nightly() -> Result<(), String> {
+    ensure_nightly_toolchain()?;
+    let listed = rustup_listed;
     if !listed(&["component", "list", "--toolchain", "nightly", "--installed"])
         .lines()
         .any(|l| l.starts_with("rust-src"))

@@ -122,6 +122,10 @@ pub struct Shared {
     pub threads_note: Option<String>,
     /// Where the thread slider was drawn this frame (egui points), for tests that drive it.
     pub threads_slider: Option<egui::Rect>,
+    /// The message of a panic the machine recovered from (a bug), shown until dismissed.
+    pub crash: Option<String>,
+    /// Panics recovered from in this run (for `--stats`).
+    pub crashes: u32,
 }
 
 impl Shared {
@@ -141,6 +145,8 @@ impl Shared {
             time: 0.0,
             threads_note: None,
             threads_slider: None,
+            crash: None,
+            crashes: 0,
         }
     }
 
@@ -287,19 +293,43 @@ impl StateMachine {
 
     /// One frame: the state on top updates.
     pub fn update(&mut self, frame_seconds: f64, shared: &mut Shared) {
-        if let Some(top) = self.stack.last_mut() {
-            let t = top.update(frame_seconds, shared);
-            self.apply(t, shared);
-        }
+        self.guarded(shared, |m, shared| {
+            if let Some(top) = m.stack.last_mut() {
+                let t = top.update(frame_seconds, shared);
+                m.apply(t, shared);
+            }
+        });
     }
 
     /// The UI of the state on top, then the global UI (help, messages).
     pub fn ui(&mut self, ui: &mut egui::Ui, shared: &mut Shared) {
-        if let Some(top) = self.stack.last_mut() {
-            let t = top.ui(ui, shared);
-            self.apply(t, shared);
-        }
+        self.guarded(shared, |m, shared| {
+            if let Some(top) = m.stack.last_mut() {
+                let t = top.ui(ui, shared);
+                m.apply(t, shared);
+            }
+        });
         crate::ui::global_ui(ui, shared, self.top_kind());
+    }
+
+    /// Runs `f` on the states; if a state panics (a bug), the viewer goes back to the main
+    /// menu and shows the message (`shared.crash`) instead of dying or freezing its frame.
+    /// The panic hook has printed it on stderr already. On the web, where panics abort, the
+    /// page's overlay shows it instead.
+    fn guarded(&mut self, shared: &mut Shared, f: impl FnOnce(&mut Self, &mut Shared)) {
+        let run = std::panic::AssertUnwindSafe(|| f(self, shared));
+        if let Err(payload) = std::panic::catch_unwind(run) {
+            let what = payload
+                .downcast_ref::<&str>()
+                .map(|s| (*s).to_string())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown failure".to_string());
+            // The states may be half-updated: none of them is trusted any more.
+            self.stack.clear();
+            self.stack.push(Box::new(MainMenu::new(None)));
+            shared.crash = Some(what);
+            shared.crashes += 1;
+        }
     }
 
     /// The world to draw: that of the highest state that shows one (an overlay shows none,

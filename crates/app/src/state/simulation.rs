@@ -7,7 +7,7 @@ use glam::Vec2;
 use super::{Paused, Shared, Signal, State, StateKind, Transition, View};
 use crate::camera::{Camera, world_bounds};
 use crate::input::{Button, InputEvent, Key};
-use crate::sim::Sim;
+use crate::sim::{SavedWorld, Sim};
 use crate::ui::profiler::Sweep;
 
 /// The simulation state.
@@ -26,7 +26,13 @@ pub struct Simulation {
     pub(crate) entries: Vec<super::main_menu::SceneEntry>,
     /// The last scene-loading error, shown in the panel.
     pub(crate) error: Option<String>,
+    /// The world saved by Save snapshot (natively also in [`SNAPSHOT_FILE`]).
+    pub(crate) saved: Option<SavedWorld>,
 }
+
+/// Where Save snapshot writes natively (in the working directory, beside screenshots) and
+/// Load snapshot reads when nothing was saved in this run.
+pub const SNAPSHOT_FILE: &str = "tumble-snapshot.json";
 
 impl Simulation {
     /// A simulation state for `sim`.
@@ -39,6 +45,43 @@ impl Simulation {
             sweep: Sweep::default(),
             entries: super::main_menu::scene_entries(),
             error: None,
+            saved: None,
+        }
+    }
+
+    /// Save snapshot: the world as it is now, kept for Load snapshot (natively also written
+    /// to [`SNAPSHOT_FILE`], so a later run can load it).
+    pub fn save_snapshot(&mut self, shared: &mut Shared) {
+        let saved = self.sim.save();
+        #[cfg(not(target_arch = "wasm32"))]
+        match std::fs::write(SNAPSHOT_FILE, saved.to_json()) {
+            Ok(()) => shared.toast(format!(
+                "Snapshot of step {} saved: {SNAPSHOT_FILE}",
+                saved.steps
+            )),
+            Err(e) => shared.toast(format!("Snapshot kept for this run; {SNAPSHOT_FILE}: {e}")),
+        }
+        #[cfg(target_arch = "wasm32")]
+        shared.toast(format!("Snapshot of step {} saved", saved.steps));
+        self.saved = Some(saved);
+    }
+
+    /// Load snapshot: back to the saved world (natively from [`SNAPSHOT_FILE`] when nothing
+    /// was saved in this run); it goes on exactly as it would have from there.
+    pub fn load_snapshot(&mut self, shared: &mut Shared) {
+        let saved = match self.saved.clone() {
+            Some(saved) => Ok(saved),
+            None => read_snapshot_file(),
+        };
+        match saved.and_then(|saved| {
+            let steps = saved.steps;
+            self.sim.restore(saved).map(|()| steps)
+        }) {
+            Ok(steps) => {
+                self.error = None;
+                shared.toast(format!("Snapshot of step {steps} loaded"));
+            }
+            Err(e) => self.error = Some(format!("{e:#}")),
         }
     }
 
@@ -73,6 +116,19 @@ impl Simulation {
         self.sim.running = false;
         self.sim.single_step();
     }
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+fn read_snapshot_file() -> anyhow::Result<SavedWorld> {
+    use anyhow::Context;
+    let text = std::fs::read_to_string(SNAPSHOT_FILE)
+        .with_context(|| format!("{SNAPSHOT_FILE}: nothing saved yet (Save snapshot writes it)"))?;
+    SavedWorld::from_json(&text, SNAPSHOT_FILE)
+}
+
+#[cfg(target_arch = "wasm32")]
+fn read_snapshot_file() -> anyhow::Result<SavedWorld> {
+    anyhow::bail!("nothing saved yet in this page (Save snapshot first)")
 }
 
 impl State for Simulation {

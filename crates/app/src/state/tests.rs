@@ -257,3 +257,47 @@ fn ui_of_every_state_runs_headless() {
         }
     }
 }
+
+/// A state with a bug: it panics in its update or its UI.
+struct Buggy {
+    in_ui: bool,
+}
+
+impl State for Buggy {
+    fn kind(&self) -> StateKind {
+        StateKind::Simulation
+    }
+
+    fn update(&mut self, _frame_seconds: f64, _shared: &mut Shared) -> Transition {
+        assert!(self.in_ui, "a bug in update");
+        Transition::None
+    }
+
+    fn ui(&mut self, _ui: &mut egui::Ui, _shared: &mut Shared) -> Transition {
+        panic!("a bug in the UI");
+    }
+}
+
+#[test]
+fn a_panicking_state_gives_the_menu_and_a_message_not_a_dead_app() {
+    let mut sh = shared();
+    let mut m = StateMachine::new(Box::new(Buggy { in_ui: false }));
+    m.update(1.0 / 60.0, &mut sh);
+    assert_eq!(m.kinds(), vec![StateKind::MainMenu]);
+    assert_eq!(sh.crash.as_deref(), Some("a bug in update"));
+    assert_eq!(sh.crashes, 1);
+    // The menu goes on working.
+    m.update(1.0 / 60.0, &mut sh);
+    assert_eq!(m.kinds(), vec![StateKind::MainMenu]);
+
+    // A panic in the UI pass: the frame still ends, with the message window in it.
+    let mut m = StateMachine::new(Box::new(Buggy { in_ui: true }));
+    m.update(1.0 / 60.0, &mut sh);
+    let ctx = egui::Context::default();
+    let out = ctx.run_ui(egui::RawInput::default(), |ui| m.ui(ui, &mut sh));
+    assert!(!out.shapes.is_empty());
+    out.drop_without_applying_deltas();
+    assert_eq!(m.kinds(), vec![StateKind::MainMenu]);
+    assert_eq!(sh.crash.as_deref(), Some("a bug in the UI"));
+    assert_eq!(sh.crashes, 2);
+}

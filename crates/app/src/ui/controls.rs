@@ -163,6 +163,9 @@ fn controls(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared, out: &m
     }
 
     ui.separator();
+    replay_ui(ui, st, shared);
+
+    ui.separator();
     ui.label(RichText::new("Debug drawing").strong());
     let d = &mut shared.settings.debug;
     ui.columns(2, |c| {
@@ -184,36 +187,61 @@ fn controls(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared, out: &m
     } else {
         recent.iter().sum::<f64>() / recent.len() as f64
     };
+    let m = &st.sim.metrics;
+    // The error bought at these settings, beside what they cost (ms / step).
+    let case = m.case_row().map(|(name, text, pass)| {
+        let colour = if pass {
+            Color32::from_rgb(140, 220, 140)
+        } else {
+            Color32::from_rgb(255, 170, 90)
+        };
+        (name, RichText::new(text).monospace().color(colour))
+    });
+    let rows = [
+        ("bodies", st.sim.world.body_count().to_string()),
+        (
+            "contacts",
+            format!("{} ({} touching)", p.contacts, p.touching),
+        ),
+        (
+            "colours",
+            format!("{} (+{} overflow)", p.colors, p.overflow),
+        ),
+        ("fps", format!("{:.0}", shared.fps)),
+        (
+            "ms / step",
+            format!(
+                "{:.2} (last {:.0} s: {recent_mean:.2})",
+                p.step_ms,
+                crate::sim::HISTORY_SECONDS
+            ),
+        ),
+    ];
+    let error_rows = [
+        (
+            "deepest overlap",
+            format!("{:.1} mm", 1000.0 * m.deepest_overlap),
+        ),
+        ("kinetic energy", format!("{:.3} J", m.energy)),
+        ("steps", st.sim.steps.to_string()),
+        ("time", format!("{:.2} s", st.sim.time())),
+        ("backend", shared.backend.clone()),
+    ];
     egui::Grid::new("counters")
         .num_columns(2)
         .striped(true)
         .show(ui, |ui| {
-            let mut row = |k: &str, v: String| {
+            let plain = |(k, v): (&'static str, String)| (k, RichText::new(v).monospace());
+            let all = rows
+                .into_iter()
+                .map(plain)
+                .chain(case)
+                .chain(error_rows.into_iter().map(plain));
+            for (k, v) in all {
                 ui.label(k);
-                ui.label(RichText::new(v).monospace());
+                ui.label(v);
                 ui.end_row();
-            };
-            row("bodies", st.sim.world.body_count().to_string());
-            row(
-                "contacts",
-                format!("{} ({} touching)", p.contacts, p.touching),
-            );
-            row(
-                "colours",
-                format!("{} (+{} overflow)", p.colors, p.overflow),
-            );
-            row("fps", format!("{:.0}", shared.fps));
-            row(
-                "ms / step",
-                format!(
-                    "{:.2} (last {:.0} s: {recent_mean:.2})",
-                    p.step_ms,
-                    crate::sim::HISTORY_SECONDS
-                ),
-            );
-            row("steps", st.sim.steps.to_string());
-            row("time", format!("{:.2} s", st.sim.time()));
-            row("backend", shared.backend.clone());
+            }
         });
 
     ui.separator();
@@ -224,6 +252,58 @@ fn controls(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared, out: &m
         }
         if ui.button("Back to menu").clicked() {
             *out = Transition::Reset(Box::new(MainMenu::new(None)));
+        }
+    });
+}
+
+/// Replay of the last seconds, and save / load of the whole world.
+fn replay_ui(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared) {
+    ui.label(RichText::new("Replay and snapshots").strong());
+    let dt = f64::from(st.sim.scene.dt);
+    ui.horizontal_wrapped(|ui| {
+        if let Some(replay) = st.sim.replay {
+            ui.label(format!(
+                "replaying {:.1} of {:.1} s",
+                (st.sim.steps - replay.from) as f64 * dt,
+                (replay.until - replay.from) as f64 * dt
+            ));
+            if ui
+                .button("Stop replay")
+                .on_hover_text("Go on live from here; the recorded rest is dropped.")
+                .clicked()
+            {
+                st.sim.stop_replay();
+            }
+        } else {
+            let seconds = st.sim.recording.seconds(st.sim.scene.dt);
+            let replay = ui
+                .add_enabled(
+                    seconds > 0.0,
+                    egui::Button::new(format!("Replay last {seconds:.0} s")),
+                )
+                .on_hover_text(
+                    "Go back and play the last seconds again, mouse included; it ends exactly \
+                     where the run was.",
+                );
+            if replay.clicked() && st.sim.start_replay() {
+                st.sim.running = true;
+            }
+        }
+    });
+    ui.horizontal_wrapped(|ui| {
+        if ui
+            .button("Save snapshot")
+            .on_hover_text("The whole world, to go back to (natively also tumble-snapshot.json).")
+            .clicked()
+        {
+            st.save_snapshot(shared);
+        }
+        if ui
+            .button("Load snapshot")
+            .on_hover_text("Back to the saved world; it goes on exactly as it would have.")
+            .clicked()
+        {
+            st.load_snapshot(shared);
         }
     });
 }

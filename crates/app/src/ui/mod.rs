@@ -44,6 +44,22 @@ pub fn global_ui(ui: &mut egui::Ui, shared: &mut Shared, _top: Option<StateKind>
             });
         shared.help_visible = open;
     }
+    if let Some(what) = shared.crash.clone() {
+        egui::Window::new("tumble hit an internal error")
+            .resizable(false)
+            .collapsible(false)
+            .anchor(Align2::CENTER_CENTER, [0.0, 0.0])
+            .show(&ctx, |ui| {
+                ui.label(RichText::new(&what).monospace());
+                ui.label(
+                    "This is a bug in tumble. The viewer went back to the menu; what you were \
+                     doing is lost. Please report the message above with the scene you ran.",
+                );
+                if ui.button("OK").clicked() {
+                    shared.crash = None;
+                }
+            });
+    }
     if let Some((text, until)) = &shared.toast {
         if shared.time > *until {
             shared.toast = None;
