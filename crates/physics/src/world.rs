@@ -933,14 +933,14 @@ impl World {
         profile.solve_ms = ms(t);
 
         let t = Instant::now();
-        let contacts = &mut self.contacts;
-        self.solver.for_each_result(|contact, k, r| {
-            let mp = &mut contacts[contact as usize].manifold.points[k];
-            mp.normal_impulse = r.normal_impulse;
-            mp.tangent_impulse = r.tangent_impulse;
-            mp.total_normal_impulse = r.total_normal_impulse;
-            mp.normal_velocity = r.relative_velocity;
-        });
+        self.solver
+            .store_impulses(&mut self.contacts, |contact, k, r| {
+                let mp = &mut contact.manifold.points[k];
+                mp.normal_impulse = r.normal_impulse;
+                mp.tangent_impulse = r.tangent_impulse;
+                mp.total_normal_impulse = r.total_normal_impulse;
+                mp.normal_velocity = r.relative_velocity;
+            });
         profile.store_impulses_ms = ms(t);
     }
 

@@ -187,19 +187,31 @@ impl Solver {
             || self.wide.par_iter().any(|w| w.any_restitution());
     }
 
-    /// Calls `f(contact, point, impulses)` for every point of every constraint solved in the
-    /// last step: what the next step's warm start needs.
-    pub fn for_each_result(&self, mut f: impl FnMut(u32, usize, &PointResult)) {
-        let overflow_end = self.color_ranges[0].end;
+    /// Stores every constraint's impulses into its contact, in parallel: `store(contact,
+    /// point, impulses)` is called for each point of each constraint solved in the last step,
+    /// with `contact = &mut contacts[constraint's contact index]`. Each touching contact
+    /// became exactly one constraint, so no two calls share a contact.
+    #[allow(unsafe_code)]
+    pub fn store_impulses<C: Send>(
+        &self,
+        contacts: &mut [C],
+        store: impl Fn(&mut C, usize, &PointResult) + Sync,
+    ) {
+        let contacts = SharedSlice::new(contacts);
+        let overflow_end = self.color_ranges.first().map_or(0, |r| r.end);
         let scalar = if self.use_wide {
             &self.constraints[..overflow_end]
         } else {
             &self.constraints[..]
         };
-        for c in scalar {
+        let store_scalar = |c: &ContactConstraint| {
+            let i = c.contact as usize;
+            // SAFETY: constraints come from distinct touching contacts (see above), so this
+            // element is this task's alone.
+            let contact = unsafe { &mut contacts.range_mut(i..i + 1)[0] };
             for (k, p) in c.points[..c.count].iter().enumerate() {
-                f(
-                    c.contact,
+                store(
+                    contact,
                     k,
                     &PointResult {
                         normal_impulse: p.normal_impulse,
@@ -209,11 +221,17 @@ impl Solver {
                     },
                 );
             }
-        }
+        };
+        scalar.par_iter().with_min_len(256).for_each(store_scalar);
         if self.use_wide {
-            for w in &self.wide {
-                w.for_each_result(&mut f);
-            }
+            self.wide.par_iter().with_min_len(32).for_each(|w| {
+                w.for_each_lane_result(|i, k, r| {
+                    let i = i as usize;
+                    // SAFETY: as above; a contact is in one lane of one wide constraint.
+                    let contact = unsafe { &mut contacts.range_mut(i..i + 1)[0] };
+                    store(contact, k, r);
+                });
+            });
         }
     }
 

@@ -181,26 +181,31 @@ impl WideConstraint {
         self.contact[..self.lanes as usize].iter().copied()
     }
 
-    /// Calls `f(contact, point, impulses)` for each used lane's points.
-    pub fn for_each_result(&self, f: &mut impl FnMut(u32, usize, &PointResult)) {
-        for (k, wp) in self.points.iter().enumerate() {
-            let n = wp.normal_impulse.as_array();
-            let t = wp.tangent_impulse.as_array();
-            let total = wp.total_normal_impulse.as_array();
-            let rv = wp.relative_velocity.as_array();
-            for l in 0..self.lanes as usize {
-                if k < self.count[l] as usize {
-                    f(
-                        self.contact[l],
-                        k,
-                        &PointResult {
-                            normal_impulse: n[l],
-                            tangent_impulse: t[l],
-                            total_normal_impulse: total[l],
-                            relative_velocity: rv[l],
-                        },
-                    );
-                }
+    /// Calls `f(contact, point, impulses)` for each used lane's points, lane by lane (so a
+    /// contact's points are stored together).
+    #[inline]
+    pub fn for_each_lane_result(&self, mut f: impl FnMut(u32, usize, &PointResult)) {
+        let arrays = |p: &WidePoint| {
+            (
+                *p.normal_impulse.as_array(),
+                *p.tangent_impulse.as_array(),
+                *p.total_normal_impulse.as_array(),
+                *p.relative_velocity.as_array(),
+            )
+        };
+        let points = [arrays(&self.points[0]), arrays(&self.points[1])];
+        for l in 0..self.lanes as usize {
+            for (k, (n, t, total, rv)) in points.iter().enumerate().take(self.count[l] as usize) {
+                f(
+                    self.contact[l],
+                    k,
+                    &PointResult {
+                        normal_impulse: n[l],
+                        tangent_impulse: t[l],
+                        total_normal_impulse: total[l],
+                        relative_velocity: rv[l],
+                    },
+                );
             }
         }
     }
