@@ -23,7 +23,9 @@ use crate::profile::StepProfile;
 use crate::scene::{BodyDef, BodyKind, Limits, SceneDef};
 use crate::shape::{Aabb, Shape};
 use crate::solver::contact_solver::{BodyState, Softness};
-use crate::solver::{BodyMotion, ContactInput, Solver, SolverBody, SolverParams, SubstepParams};
+use crate::solver::{
+    BodyMotion, ContactInput, Solver, SolverBody, SolverContact, SolverParams, SubstepParams,
+};
 use crate::{AABB_MARGIN, SPECULATIVE_DISTANCE};
 
 /// The knobs of the step that trade speed for accuracy. Defaults are Box2D v3's.
@@ -154,6 +156,19 @@ struct Contact {
     remove: bool,
     /// Poses when the manifold was last computed, for contact recycling.
     cache: Option<ContactCache>,
+}
+
+impl SolverContact for Contact {
+    #[inline]
+    fn input(&self) -> ContactInput<'_> {
+        ContactInput {
+            body_a: self.body_a,
+            body_b: self.body_b,
+            friction: self.friction,
+            restitution: self.restitution,
+            manifold: &self.manifold,
+        }
+    }
 }
 
 /// What a contact remembers of the poses its manifold was computed at.
@@ -886,21 +901,10 @@ impl World {
                 .map(|(k, _)| k as u32),
         );
         profile.touching = self.touching.len();
-        let contacts = &self.contacts;
-        let input = |k: u32| {
-            let c = &contacts[k as usize];
-            ContactInput {
-                body_a: c.body_a,
-                body_b: c.body_b,
-                friction: c.friction,
-                restitution: c.restitution,
-                manifold: &c.manifold,
-            }
-        };
         self.solver.use_wide = s.simd;
         self.solver.prepare(
             &self.touching,
-            &input,
+            &self.contacts,
             &self.solver_bodies,
             &self.states,
             &params,
