@@ -46,6 +46,12 @@ pub struct StepSettings {
     pub relax_iterations: u32,
     /// Approach speed (m/s) below which restitution is not applied.
     pub restitution_threshold: f32,
+    /// Passes of the restitution stage at the end of the step. One pass (Box2D's) applies
+    /// each contact's bounce once, in colour order, so a body that hits two others in one
+    /// step (a wall and a ball) is sent back into the first by the second; more passes
+    /// converge to bounces that hold for every contact at once. Skipped when nothing bounces.
+    #[serde(default = "one")]
+    pub restitution_iterations: u32,
     /// Speed cap (m/s), Box2D's `maxLinearSpeed`.
     pub max_linear_speed: f32,
     /// Seed each step's solve with the last step's impulses.
@@ -58,6 +64,10 @@ pub struct StepSettings {
     pub simd: bool,
 }
 
+fn one() -> u32 {
+    1
+}
+
 impl Default for StepSettings {
     fn default() -> Self {
         Self {
@@ -67,6 +77,7 @@ impl Default for StepSettings {
             max_push_speed: 3.0,
             relax_iterations: 1,
             restitution_threshold: 1.0,
+            restitution_iterations: 1,
             max_linear_speed: 400.0,
             warm_starting: true,
             contact_recycling: true,
@@ -922,6 +933,7 @@ impl World {
             max_push_speed: s.max_push_speed,
             max_linear_speed: s.max_linear_speed,
             restitution_threshold: s.restitution_threshold,
+            restitution_iterations: s.restitution_iterations,
         };
         // Small worlds are not worth waking the other workers for every stage.
         let workers = if self.touching.len() < 256 {

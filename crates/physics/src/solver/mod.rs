@@ -469,6 +469,8 @@ pub struct SubstepParams {
     pub max_linear_speed: f32,
     /// Restitution threshold.
     pub restitution_threshold: f32,
+    /// Restitution passes.
+    pub restitution_iterations: u32,
 }
 
 /// The constraint arrays the workers share.
@@ -566,10 +568,12 @@ fn run_worker(
     }
     if stages.any_restitution {
         let t = p.restitution_threshold;
-        colors(
-            &mut |c| contact_solver::apply_restitution(c, states, t),
-            &mut |c| wide::apply_restitution(c, states, t),
-        );
+        for _ in 0..p.restitution_iterations.max(1) {
+            colors(
+                &mut |c| contact_solver::apply_restitution(c, states, t),
+                &mut |c| wide::apply_restitution(c, states, t),
+            );
+        }
     }
     caps
 }
