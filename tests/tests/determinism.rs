@@ -1,7 +1,7 @@
 //! Determinism across thread counts: the same scene stepped on 1, 2, 3 and 4 threads, and with
 //! the thread count changed mid-run, ends in bit-identical states.
 
-use tumble_physics::{ShapeDef, World};
+use tumble_physics::{ShapeDef, StepSettings, World};
 use tumble_tests::{all_finite, world};
 
 const STEPS: u32 = 240;
@@ -38,6 +38,11 @@ struct Run {
 /// about 2.6 s, then bounce and roll among its 120 boxes. The thread count for each step is
 /// `threads(step)`.
 fn run(label: &str, threads: impl Fn(u32) -> usize) -> Run {
+    run_with(label, threads, |_| {})
+}
+
+/// [`run`] with the step settings changed by `tweak` first.
+fn run_with(label: &str, threads: impl Fn(u32) -> usize, tweak: impl Fn(&mut StepSettings)) -> Run {
     let scene = match tumble_scene::builtin::build("falling_circles") {
         Some(s) => s,
         None => panic!("no built-in falling_circles"),
@@ -49,6 +54,7 @@ fn run(label: &str, threads: impl Fn(u32) -> usize) -> Run {
         .unwrap_or(scene.bodies.len());
     let t0 = std::time::Instant::now();
     let mut w = world(&scene);
+    tweak(w.settings_mut());
     let cores = tumble_physics::default_thread_count();
     let mut parallel_solves = 0;
     for step in 0..STEPS {
@@ -147,4 +153,30 @@ fn a_repeated_run_gives_the_same_hash() {
     let a = run("2 threads, first run", |_| 2);
     let b = run("2 threads, second run", |_| 2);
     assert_same(&a, &b);
+}
+
+#[test]
+fn repeated_restitution_passes_are_bit_identical_on_any_thread_count() {
+    // The restitution passes run colour by colour on every worker, like the solve: 8 passes
+    // at threshold 0 make every bounce of the circles (restitution 0.3) go through them.
+    let bouncy = |s: &mut StepSettings| {
+        s.restitution_threshold = 0.0;
+        s.restitution_iterations = 8;
+    };
+    let one = run_with("8 restitution passes, 1 thread", |_| 1, bouncy);
+    for n in [2, 3, 4] {
+        assert_same(
+            &one,
+            &run_with(&format!("8 restitution passes, {n} threads"), |_| n, bouncy),
+        );
+    }
+    // And they change the result: the passes really ran.
+    let single = run_with(
+        "1 restitution pass, 1 thread",
+        |_| 1,
+        |s| {
+            s.restitution_threshold = 0.0;
+        },
+    );
+    assert_ne!(one.hash, single.hash);
 }
