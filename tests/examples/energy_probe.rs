@@ -3,28 +3,17 @@
 //! steps that lost the most energy with the contacts that were active in them.
 use tumble_physics::*;
 
-fn kinetic(w: &World) -> f64 {
-    (0..w.body_count())
-        .filter(|&i| w.body(i).kind == BodyKind::Dynamic)
-        .map(|i| {
-            let b = w.body(i);
-            0.5 * f64::from(w.mass(i)) * f64::from(b.linear_velocity.length_squared())
-                + 0.5 * f64::from(w.inertia(i)) * f64::from(b.angular_velocity).powi(2)
-        })
-        .sum()
-}
-
 fn run(label: &str, steps: u32, tweak: impl Fn(&mut StepSettings), substeps: u32, verbose: bool) {
     let scene = tumble_scene::builtin::build("elastic_box").unwrap();
     let mut w = World::from_scene(&scene, &Limits::default()).unwrap();
     w.set_thread_count(1);
     tweak(w.settings_mut());
-    let e0 = kinetic(&w);
+    let e0 = w.kinetic_energy();
     let mut losses = Vec::new();
     let mut prev = e0;
     for s in 0..steps {
         w.step(scene.dt, substeps);
-        let e = kinetic(&w);
+        let e = w.kinetic_energy();
         if verbose {
             let touching: Vec<(usize, usize, f32, f32)> = w
                 .contacts()

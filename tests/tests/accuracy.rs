@@ -383,28 +383,17 @@ fn overlap_recovery_peak_speed_below_3_m_s() {
     assert!(left < 0.01, "overlap_recovery: {left} m of overlap left");
 }
 
-/// Kinetic energy of the dynamic bodies (J).
-fn kinetic(w: &World) -> f64 {
-    (0..w.body_count())
-        .filter(|&i| w.body(i).kind == BodyKind::Dynamic)
-        .map(|i| {
-            let b = w.body(i);
-            0.5 * f64::from(w.mass(i)) * f64::from(b.linear_velocity.length_squared())
-        })
-        .sum()
-}
-
 /// Largest |E - E0| / E0 of the kinetic energy over `steps` steps of `scene` (no gravity, so
 /// kinetic energy is all the energy; the circles are frictionless and never spin).
 fn energy_drift(scene: &SceneDef, threshold: f32, passes: u32, steps: u32) -> f64 {
     let mut w = build(scene, DEFAULT);
     w.settings_mut().restitution_threshold = threshold;
     w.settings_mut().restitution_iterations = passes;
-    let e0 = kinetic(&w);
+    let e0 = w.kinetic_energy();
     let mut worst = 0.0_f64;
     for _ in 0..steps {
         w.step(scene.dt, DEFAULT.substeps);
-        worst = worst.max((kinetic(&w) / e0 - 1.0).abs());
+        worst = worst.max((w.kinetic_energy() / e0 - 1.0).abs());
     }
     worst
 }

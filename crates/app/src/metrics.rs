@@ -76,7 +76,7 @@ impl Metrics {
                 .collect(),
             _ => Vec::new(),
         };
-        let energy0 = kinetic_energy(world);
+        let energy0 = world.kinetic_energy();
         let mut m = Metrics {
             case,
             start,
@@ -90,7 +90,7 @@ impl Metrics {
 
     /// Measures the world now; O(bodies + contacts), once a frame.
     pub fn measure(&mut self, world: &World) {
-        self.energy = kinetic_energy(world);
+        self.energy = world.kinetic_energy();
         self.deepest_overlap = world
             .contacts()
             .flat_map(|c| c.manifold.points().iter().map(|p| -p.separation))
@@ -141,20 +141,6 @@ impl Metrics {
         };
         Some((name, text, self.worst < bound))
     }
-}
-
-/// Translational and rotational kinetic energy of the dynamic bodies (J).
-fn kinetic_energy(world: &World) -> f64 {
-    (0..world.body_count())
-        .filter(|&i| world.body(i).kind == BodyKind::Dynamic)
-        .map(|i| {
-            let b = world.body(i);
-            let translational =
-                0.5 * f64::from(world.mass(i)) * f64::from(b.linear_velocity.length_squared());
-            translational
-                + 0.5 * f64::from(world.inertia(i)) * f64::from(b.angular_velocity).powi(2)
-        })
-        .sum()
 }
 
 #[cfg(test)]
