@@ -83,16 +83,6 @@ fn status_kb(field: &str) -> u64 {
         .unwrap_or(0)
 }
 
-fn all_finite(world: &World) -> bool {
-    (0..world.body_count()).all(|i| {
-        let b = world.body(i);
-        b.position.is_finite()
-            && b.angle.is_finite()
-            && b.linear_velocity.is_finite()
-            && b.angular_velocity.is_finite()
-    })
-}
-
 /// Runs the soak; exits non-zero (through the error) if any body went non-finite.
 pub fn run(args: &SoakArgs) -> Result<()> {
     let scene = soak_pile(args.bodies as usize);
@@ -136,7 +126,7 @@ pub fn run(args: &SoakArgs) -> Result<()> {
                 resident_kb: status_kb("VmRSS:"),
                 peak_resident_kb: status_kb("VmHWM:"),
                 contacts: world.contact_count(),
-                finite: all_finite(&world),
+                finite: world.is_finite(),
                 guard_fired: guard_since,
                 step_ms_mean: ms_since / steps_since as f64,
             };

@@ -632,6 +632,18 @@ impl World {
         if inv > 0.0 { 1.0 / inv } else { 0.0 }
     }
 
+    /// Whether every body's pose and velocities are finite numbers (what the soak, the tests
+    /// and the numerical guard's callers check).
+    pub fn is_finite(&self) -> bool {
+        self.sims.iter().zip(&self.states).all(|(sim, st)| {
+            sim.xf.p.is_finite()
+                && sim.xf.q.c.is_finite()
+                && sim.xf.q.s.is_finite()
+                && st.v.is_finite()
+                && st.w.is_finite()
+        })
+    }
+
     /// Kinetic energy of the dynamic bodies, translational and rotational (J), summed in f64:
     /// what the energy checks of the tests, the report and the viewer measure.
     pub fn kinetic_energy(&self) -> f64 {
@@ -1130,6 +1142,21 @@ mod tests {
         let expected = 0.5 * m * 25.0 + 0.5 * (m * 0.125) * 4.0;
         let e = w.kinetic_energy();
         assert!((e / expected - 1.0).abs() < 1e-6, "{e} vs {expected}");
+    }
+
+    #[test]
+    fn is_finite_sees_one_non_finite_velocity() {
+        // set_velocity refuses non-finite input, so the state is written directly.
+        let mut w = ball_on_ground();
+        assert!(w.is_finite());
+        w.states[1].v.x = f32::NAN;
+        assert!(!w.is_finite());
+        w.states[1].v.x = 0.0;
+        w.states[1].w = f32::INFINITY;
+        assert!(!w.is_finite());
+        w.states[1].w = 0.0;
+        w.sims[1].xf.p.y = f32::NEG_INFINITY;
+        assert!(!w.is_finite());
     }
 
     #[test]
