@@ -369,11 +369,15 @@ impl Sim {
         let Some((from, snapshot)) = self.recording.snapshots.front() else {
             return false;
         };
-        let (from, snapshot) = (*from, snapshot.clone());
+        let from = *from;
         if from >= until {
             return false;
         }
-        self.restore_world(snapshot, from);
+        // The snapshot was taken from this world, so it is consistent.
+        let Ok(world) = World::from_snapshot(snapshot.clone()) else {
+            return false;
+        };
+        self.install_world(world, from);
         self.replay = Some(Replay { until, from });
         true
     }
@@ -408,36 +412,32 @@ impl Sim {
                 saved.scene.bodies.len()
             );
         }
-        let scene_changed = *self.scene != saved.scene;
-        let threads = self.world.thread_count();
+        // Everything that can fail comes first, so a bad file leaves the running world as it
+        // was: the scene is validated by building its start (what the metrics measure from).
+        let start = build_world(&saved.scene)?;
         let world = World::from_snapshot(saved.world)
             .with_context(|| format!("snapshot of `{}`", saved.scene.name))?;
-        if scene_changed {
+        if *self.scene != saved.scene {
             self.clock = FixedStep::new(saved.scene.dt);
             self.scene = Arc::new(saved.scene);
         }
-        self.world = world;
-        self.world.set_thread_count(threads);
+        self.install_world(world, saved.steps);
         self.substeps = saved.substeps;
-        self.steps = saved.steps;
-        self.drag = None;
         self.history.clear();
         self.recording.clear();
         self.replay = None;
-        self.metrics = crate::metrics::Metrics::new(&self.scene, &build_world(&self.scene)?);
+        self.metrics = crate::metrics::Metrics::new(&self.scene, &start);
         Ok(())
     }
 
-    fn restore_world(&mut self, snapshot: WorldSnapshot, steps: u64) {
+    /// Swaps in a restored world at step `steps`, keeping the thread count.
+    fn install_world(&mut self, world: World, steps: u64) {
         let threads = self.world.thread_count();
-        // The snapshot was taken from this world, so it is consistent.
-        if let Ok(world) = World::from_snapshot(snapshot) {
-            self.world = world;
-            self.world.set_thread_count(threads);
-            self.steps = steps;
-            self.drag = None;
-            self.clock.reset();
-        }
+        self.world = world;
+        self.world.set_thread_count(threads);
+        self.steps = steps;
+        self.drag = None;
+        self.clock.reset();
     }
 
     /// Advances by one frame's duration: as many fixed steps as the clock hands out (none
@@ -708,6 +708,16 @@ mod tests {
             other.single_step();
         }
         assert_eq!(first.world.state_hash(), other.world.state_hash());
+
+        // A file whose scene is invalid is refused and the running world is kept as it was.
+        let mut bad = SavedWorld::from_json(&text, "saved.json").unwrap();
+        bad.scene.bodies[1].density = -1.0;
+        let (hash, steps) = (other.world.state_hash(), other.steps);
+        let err = other
+            .restore(bad)
+            .expect_err("a negative density is refused");
+        assert!(format!("{err:#}").contains("density"), "{err:#}");
+        assert_eq!((other.world.state_hash(), other.steps), (hash, steps));
 
         let err = SavedWorld::from_json("{\"format\": \"x\"}", "saved.json")
             .err()
