@@ -24,7 +24,7 @@ use crate::math::dot;
 use crate::parallel::{BodyStates, SharedSlice, SpinBarrier, worker_range};
 use contact_solver::{BodyState, ConstraintPoint, ContactConstraint, Softness};
 use graph_color::{COLOR_COUNT, GraphColoring, OVERFLOW};
-use wide::{LANES, WideConstraint};
+use wide::{LANES, LaneInput, WideConstraint};
 
 /// What prepare needs to know of a body.
 #[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
@@ -177,14 +177,33 @@ impl Solver {
             self.wide_ranges.push(start..self.wide_source.len());
         }
         let wide_source = &self.wide_source;
-        let pack = |r: &Range<u32>| {
-            WideConstraint::pack_with((r.end - r.start) as usize, |l| build(r.start as usize + l))
+        let pack = |w: &mut WideConstraint, r: &Range<u32>| {
+            w.prepare(
+                (r.end - r.start) as usize,
+                states,
+                params.warm_starting,
+                |l| {
+                    let contact = touching[slot_source[r.start as usize + l] as usize];
+                    let input = contacts[contact as usize].input();
+                    let body_a = bodies[input.body_a as usize];
+                    let body_b = bodies[input.body_b as usize];
+                    let softness = if body_a.dynamic && body_b.dynamic {
+                        params.contact_softness
+                    } else {
+                        params.static_softness
+                    };
+                    LaneInput {
+                        contact,
+                        input,
+                        body_a,
+                        body_b,
+                        softness,
+                    }
+                },
+            )
         };
         // Reuse the buffer: a fresh 2 MB allocation each step costs page faults.
-        self.wide.truncate(wide_source.len());
-        while self.wide.len() < wide_source.len() {
-            self.wide.push(pack(&wide_source[self.wide.len()]));
-        }
+        self.wide.resize(wide_source.len(), WideConstraint::EMPTY);
         // The contacts of a colour lie scattered through the contact array: fetch the next
         // wide constraint's while this one is built, or each lane waits on memory in turn
         // (measured: 15% of a many_pyramids step stalled there).
@@ -203,7 +222,7 @@ impl Solver {
             .with_min_len(32)
             .for_each(|(i, (w, r))| {
                 prefetch(i + 1);
-                *w = pack(r);
+                pack(w, r);
             });
         self.any_restitution = self.constraints.par_iter().any(|c| c.restitution > 0.0)
             || self.wide.par_iter().any(|w| w.any_restitution());
