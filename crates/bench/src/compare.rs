@@ -606,6 +606,11 @@ mod imp {
         let _ = writeln!(md, "| rustc | `{}` |", machine::rustc_version());
         let _ = writeln!(
             md,
+            "| tumble's 8-lane solver | {} |",
+            machine::tumble_kernel()
+        );
+        let _ = writeln!(
+            md,
             "| Box2D | {} via boxdd {}; CFLAGS `{}`; AVX2 path {} |",
             box2d::version(),
             env!("TUMBLE_BENCH_BOXDD_VERSION"),

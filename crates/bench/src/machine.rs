@@ -60,3 +60,13 @@ pub fn build_cflags() -> &'static str {
 pub fn optimised() -> bool {
     !cfg!(debug_assertions)
 }
+
+/// The kernels tumble's solver runs its 8-lane colours with on this CPU (`avx2`, chosen at
+/// run time, or `portable`), as a table cell.
+pub fn tumble_kernel() -> String {
+    let world = tumble_physics::World::new(tumble_physics::StepSettings::default());
+    match world.simd_kernel() {
+        "avx2" => "AVX2, 256-bit (detected at run time; the build itself is portable)".into(),
+        other => format!("{other} (no AVX2 on this CPU)"),
+    }
+}

@@ -483,6 +483,11 @@ fn markdown(
         machine::git_revision()
     );
     let _ = writeln!(md, "| rustc | `{}` |", machine::rustc_version());
+    let _ = writeln!(
+        md,
+        "| tumble's 8-lane solver | {} |",
+        machine::tumble_kernel()
+    );
     peer_rows(&mut md);
     let _ = writeln!(
         md,

@@ -420,6 +420,11 @@ fn markdown(table: &str, files: &[PathBuf], args: &SweepArgs, load: &str) -> Str
     let _ = writeln!(md, "| rustc | `{}` |", machine::rustc_version());
     let _ = writeln!(
         md,
+        "| tumble's 8-lane solver | {} |",
+        machine::tumble_kernel()
+    );
+    let _ = writeln!(
+        md,
         "| build | {} |",
         if machine::optimised() {
             "release"

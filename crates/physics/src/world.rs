@@ -309,7 +309,7 @@ impl World {
             broad_phase: BroadPhase::default(),
             contacts: Vec::new(),
             pairs: FxHashMap::default(),
-            solver: Solver::default(),
+            solver: Solver::new(),
             touching: Vec::new(),
             solver_bodies: Vec::new(),
             motion: Vec::new(),
@@ -695,6 +695,19 @@ impl World {
     /// drawing of the constraint graph.
     pub fn contact_colors(&self) -> Vec<(usize, u8)> {
         self.solver.contact_colors()
+    }
+
+    /// Which kernels solve the 8-lane colours: `"avx2"` (256-bit registers, chosen at run
+    /// time where the CPU has AVX2), `"portable"` (`f32x8`, on x86-64 two SSE halves), or
+    /// `"scalar"` when [`StepSettings::simd`] is off. All give the same results bit for bit.
+    pub fn simd_kernel(&self) -> &'static str {
+        if !self.settings.simd {
+            "scalar"
+        } else if self.solver.use_avx && crate::solver::lanes::avx2_available() {
+            "avx2"
+        } else {
+            "portable"
+        }
     }
 
     /// The last step's per-stage profile.
@@ -1202,9 +1215,10 @@ mod tests {
     fn simd_and_scalar_solvers_agree_bit_for_bit() {
         // Both paths do the same per-lane operations in the same order, with no fused
         // multiply-add, so the whole state must match exactly, not within a tolerance.
-        let run = |simd: bool| {
+        let run = |simd: bool, avx: bool| {
             let mut w = World::new(StepSettings::default());
             w.settings_mut().simd = simd;
+            w.solver.use_avx = avx;
             w.add_body(
                 &BodyDef::new(ShapeDef::Box {
                     half_extents: [20.0, 0.5],
@@ -1237,7 +1251,11 @@ mod tests {
             assert!(w.profile().touching > 50);
             w.state_hash()
         };
-        assert_eq!(run(true), run(false));
+        // The 8-lane kernels in AVX2 registers (where the CPU has AVX2; elsewhere both runs
+        // take the portable path) against the portable f32x8 kernels, and against scalar.
+        let portable = run(true, false);
+        assert_eq!(run(true, true), portable);
+        assert_eq!(run(false, false), portable);
     }
 
     #[test]

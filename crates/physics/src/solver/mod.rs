@@ -11,6 +11,7 @@
 
 pub mod contact_solver;
 pub mod graph_color;
+pub mod lanes;
 pub mod wide;
 
 use std::ops::Range;
@@ -81,6 +82,9 @@ pub struct Solver {
     pub any_restitution: bool,
     /// Solve colours eight constraints at a time (else on the scalar path; same results).
     pub use_wide: bool,
+    /// Run the eight-lane kernels in 256-bit AVX2 registers where the CPU has them (else as
+    /// portable `f32x8`; same results). On by default; off only to test that equality.
+    pub use_avx: bool,
 }
 
 /// The knobs the solver reads each step.
@@ -95,6 +99,14 @@ pub struct SolverParams {
 }
 
 impl Solver {
+    /// Empty buffers; AVX2 kernels on where the CPU has them.
+    pub fn new() -> Solver {
+        Solver {
+            use_avx: true,
+            ..Solver::default()
+        }
+    }
+
     /// Colours the touching contacts and builds their constraints; `touching` lists contact
     /// indices in contact order.
     pub fn prepare<C: SolverContact>(
@@ -351,6 +363,7 @@ impl Solver {
             wide: SharedSlice::new(&mut self.wide),
             wide_ranges: &self.wide_ranges,
             any_restitution,
+            use_avx: self.use_avx,
         };
         let caps = if workers == 1 {
             let states = BodyStates::exclusive(states);
@@ -500,6 +513,7 @@ struct Stages<'a> {
     wide: SharedSlice<'a, WideConstraint>,
     wide_ranges: &'a [Range<usize>],
     any_restitution: bool,
+    use_avx: bool,
 }
 
 /// One worker's walk through the stages of the substep loop.
@@ -520,6 +534,7 @@ fn run_worker(
     };
     let bodies = worker_range(&(0..motion.len()), worker, workers);
     let inv_h = 1.0 / p.h;
+    let avx = stages.use_avx;
     // A colour stage: worker 0 alone solves the overflow on the scalar path, then every
     // colour's constraints (eight-wide, or scalar when SIMD is off) are shared among the
     // workers, a barrier after each.
@@ -558,11 +573,11 @@ fn run_worker(
         }
         sync();
         colors(&mut |c| contact_solver::warm_start(c, states), &mut |c| {
-            wide::warm_start(c, states)
+            wide::warm_start(c, states, avx)
         });
         colors(
             &mut |c| contact_solver::solve(c, states, inv_h, true, p.max_push_speed),
-            &mut |c| wide::solve(c, states, inv_h, true, p.max_push_speed),
+            &mut |c| wide::solve(c, states, inv_h, true, p.max_push_speed, avx),
         );
         for i in bodies.clone() {
             let m = &motion[i];
@@ -581,7 +596,7 @@ fn run_worker(
         for _ in 0..p.relax_iterations {
             colors(
                 &mut |c| contact_solver::solve(c, states, inv_h, false, p.max_push_speed),
-                &mut |c| wide::solve(c, states, inv_h, false, p.max_push_speed),
+                &mut |c| wide::solve(c, states, inv_h, false, p.max_push_speed, avx),
             );
         }
     }
@@ -590,7 +605,7 @@ fn run_worker(
         for _ in 0..p.restitution_iterations.max(1) {
             colors(
                 &mut |c| contact_solver::apply_restitution(c, states, t),
-                &mut |c| wide::apply_restitution(c, states, t),
+                &mut |c| wide::apply_restitution(c, states, t, avx),
             );
         }
     }

@@ -11,6 +11,9 @@ use wide::{f32x4, f32x8};
 
 use super::PointResult;
 use super::contact_solver::{BodyState, Softness};
+#[cfg(target_arch = "x86_64")]
+use super::lanes::Avx;
+use super::lanes::Lanes;
 use super::{ContactInput, SolverBody};
 use crate::parallel::BodyStates;
 
@@ -198,13 +201,13 @@ impl WideConstraint {
             let x = lane(l);
             put(w, l, &x);
         }
-        let a = gather_with(|i| states[i], &w.body_a);
-        let b = gather_with(|i| states[i], &w.body_b);
-        let m = w.masses();
+        let a = gather_with::<f32x8>(|i| states[i], &w.body_a);
+        let b = gather_with::<f32x8>(|i| states[i], &w.body_b);
+        let m = w.masses::<f32x8>();
         let (nx, ny) = (w.normal_x, w.normal_y);
         let (tx, ty) = (ny, -nx);
         for (k, p) in w.points.iter_mut().enumerate() {
-            let r = p.r;
+            let r = p.r.load::<f32x8>();
             let used = f32x8::new(used[k]).simd_gt(z);
             let base = f32x8::new(separation[k]) - ((r.bx - r.ax) * nx + (r.by - r.ay) * ny);
             let rna = r.ax * ny - r.ay * nx;
@@ -263,39 +266,27 @@ impl WideConstraint {
 }
 
 /// Eight bodies' states, one per lane.
-struct WideBody {
-    vx: f32x8,
-    vy: f32x8,
-    w: f32x8,
-    dpx: f32x8,
-    dpy: f32x8,
-    dqc: f32x8,
-    dqs: f32x8,
-}
-
-/// Two 4-lane halves as one 8-lane vector.
-#[inline(always)]
-fn join(lo: f32x4, hi: f32x4) -> f32x8 {
-    wide::bytemuck::cast([lo, hi])
-}
-
-/// The two 4-lane halves of an 8-lane vector.
-#[inline(always)]
-fn halves(x: f32x8) -> [f32x4; 2] {
-    wide::bytemuck::cast(x)
+struct WideBody<V> {
+    vx: V,
+    vy: V,
+    w: V,
+    dpx: V,
+    dpy: V,
+    dqc: V,
+    dqs: V,
 }
 
 /// Loads eight bodies' states into lanes: each state's two 16-byte halves are loaded whole and
 /// transposed four at a time (Box2D's `b2GatherBodies` does the same with SSE), rather than
 /// assembled float by float, which stalls on store forwarding.
 #[inline(always)]
-fn gather(states: &BodyStates<'_>, index: &[u32; LANES]) -> WideBody {
+fn gather<V: Lanes>(states: &BodyStates<'_>, index: &[u32; LANES]) -> WideBody<V> {
     gather_with(|i| states.get(i), index)
 }
 
 /// `gather` from any reader of states.
 #[inline(always)]
-fn gather_with(get: impl Fn(usize) -> BodyState, index: &[u32; LANES]) -> WideBody {
+fn gather_with<V: Lanes>(get: impl Fn(usize) -> BodyState, index: &[u32; LANES]) -> WideBody<V> {
     let mut motion = [[f32x4::ZERO; 4]; 2];
     let mut delta = [[f32x4::ZERO; 4]; 2];
     for l in 0..LANES {
@@ -306,24 +297,24 @@ fn gather_with(get: impl Fn(usize) -> BodyState, index: &[u32; LANES]) -> WideBo
     let [m0, m1] = motion.map(f32x4::transpose);
     let [d0, d1] = delta.map(f32x4::transpose);
     WideBody {
-        vx: join(m0[0], m1[0]),
-        vy: join(m0[1], m1[1]),
-        w: join(m0[2], m1[2]),
-        dpx: join(d0[0], d1[0]),
-        dpy: join(d0[1], d1[1]),
-        dqc: join(d0[2], d1[2]),
-        dqs: join(d0[3], d1[3]),
+        vx: V::join(m0[0], m1[0]),
+        vy: V::join(m0[1], m1[1]),
+        w: V::join(m0[2], m1[2]),
+        dpx: V::join(d0[0], d1[0]),
+        dpy: V::join(d0[1], d1[1]),
+        dqc: V::join(d0[2], d1[2]),
+        dqs: V::join(d0[3], d1[3]),
     }
 }
 
 /// Writes the velocities of the dynamic lanes back (static and kinematic bodies are shared
 /// between lanes and constraints of a colour, and are never written).
 #[inline(always)]
-fn scatter(states: &BodyStates<'_>, index: &[u32; LANES], dynamic: u8, b: &WideBody) {
+fn scatter<V: Lanes>(states: &BodyStates<'_>, index: &[u32; LANES], dynamic: u8, b: &WideBody<V>) {
     if dynamic == 0 {
         return;
     }
-    let (vx, vy, w) = (halves(b.vx), halves(b.vy), halves(b.w));
+    let (vx, vy, w) = (b.vx.halves(), b.vy.halves(), b.w.halves());
     for g in 0..2 {
         let rows = f32x4::transpose([vx[g], vy[g], w[g], f32x4::ZERO]);
         for (k, row) in rows.iter().enumerate() {
@@ -338,28 +329,49 @@ fn scatter(states: &BodyStates<'_>, index: &[u32; LANES], dynamic: u8, b: &WideB
 
 /// Inverse masses and inertias of both sides.
 #[derive(Clone, Copy)]
-struct Masses {
-    ma: f32x8,
-    ia: f32x8,
-    mb: f32x8,
-    ib: f32x8,
+struct Masses<V> {
+    ma: V,
+    ia: V,
+    mb: V,
+    ib: V,
 }
 
 impl WideConstraint {
     #[inline(always)]
-    fn masses(&self) -> Masses {
+    fn masses<V: Lanes>(&self) -> Masses<V> {
         Masses {
-            ma: self.inv_mass_a,
-            ia: self.inv_i_a,
-            mb: self.inv_mass_b,
-            ib: self.inv_i_b,
+            ma: V::load(self.inv_mass_a),
+            ia: V::load(self.inv_i_a),
+            mb: V::load(self.inv_mass_b),
+            ib: V::load(self.inv_i_b),
+        }
+    }
+}
+
+/// Anchors loaded into lanes.
+#[derive(Clone, Copy)]
+struct R<V> {
+    ax: V,
+    ay: V,
+    bx: V,
+    by: V,
+}
+
+impl Anchors {
+    #[inline(always)]
+    fn load<V: Lanes>(&self) -> R<V> {
+        R {
+            ax: V::load(self.ax),
+            ay: V::load(self.ay),
+            bx: V::load(self.bx),
+            by: V::load(self.by),
         }
     }
 }
 
 /// Applies an impulse `(px, py)` at anchors `r` to both bodies (negated on A).
 #[inline(always)]
-fn apply(m: Masses, a: &mut WideBody, b: &mut WideBody, r: &Anchors, px: f32x8, py: f32x8) {
+fn apply<V: Lanes>(m: Masses<V>, a: &mut WideBody<V>, b: &mut WideBody<V>, r: &R<V>, px: V, py: V) {
     a.vx -= m.ma * px;
     a.vy -= m.ma * py;
     a.w -= m.ia * (r.ax * py - r.ay * px);
@@ -370,7 +382,7 @@ fn apply(m: Masses, a: &mut WideBody, b: &mut WideBody, r: &Anchors, px: f32x8, 
 
 /// Relative velocity of B's anchor with respect to A's: `(vB + wB × rB) − (vA + wA × rA)`.
 #[inline(always)]
-fn relative_velocity(a: &WideBody, b: &WideBody, r: &Anchors) -> (f32x8, f32x8) {
+fn relative_velocity<V: Lanes>(a: &WideBody<V>, b: &WideBody<V>, r: &R<V>) -> (V, V) {
     let dvx = (b.vx - b.w * r.by) - (a.vx - a.w * r.ay);
     let dvy = (b.vy + b.w * r.bx) - (a.vy + a.w * r.ax);
     (dvx, dvy)
@@ -379,30 +391,64 @@ fn relative_velocity(a: &WideBody, b: &WideBody, r: &Anchors) -> (f32x8, f32x8) 
 /// Adds `impulse` to the accumulated normal impulse of the lanes in `active`, clamped so
 /// contacts only push; returns what was applied.
 #[inline(always)]
-fn accumulate_normal(p: &mut WidePoint, impulse: f32x8, active: Option<f32x8>) -> f32x8 {
-    let clamped = (p.normal_impulse + impulse).fast_max(f32x8::ZERO);
+fn accumulate_normal<V: Lanes>(p: &mut WidePoint, impulse: V, active: Option<V>) -> V {
+    let old = V::load(p.normal_impulse);
+    let clamped = (old + impulse).fast_max(V::splat(0.0));
     let new_impulse = match active {
-        Some(mask) => mask.select(clamped, p.normal_impulse),
+        Some(mask) => mask.select(clamped, old),
         None => clamped,
     };
-    let applied = new_impulse - p.normal_impulse;
-    p.normal_impulse = new_impulse;
-    p.total_normal_impulse = p.total_normal_impulse.fast_max(new_impulse);
-    applied
+    p.normal_impulse = new_impulse.store();
+    p.total_normal_impulse = V::load(p.total_normal_impulse)
+        .fast_max(new_impulse)
+        .store();
+    new_impulse - old
+}
+
+/// Runs `$kernel::<Avx>` when the CPU has AVX2 and `use_avx` asks for it, else
+/// `$kernel::<f32x8>`; the results are the same bit for bit (`lanes.rs`).
+macro_rules! dispatch {
+    ($use_avx:expr, $kernel:ident, $avx_kernel:ident, ($($arg:expr),*)) => {{
+        #[cfg(target_arch = "x86_64")]
+        if $use_avx && super::lanes::avx2_available() {
+            // SAFETY: the CPU has AVX2 (checked just above).
+            #[allow(unsafe_code)]
+            return unsafe { $avx_kernel($($arg),*) };
+        }
+        let _ = $use_avx;
+        $kernel::<f32x8>($($arg),*)
+    }};
 }
 
 /// Warm start: apply the accumulated impulses again.
-pub fn warm_start(constraints: &[WideConstraint], states: &BodyStates<'_>) {
+pub fn warm_start(constraints: &[WideConstraint], states: &BodyStates<'_>, use_avx: bool) {
+    dispatch!(
+        use_avx,
+        warm_start_with,
+        warm_start_avx2,
+        (constraints, states)
+    )
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn warm_start_avx2(constraints: &[WideConstraint], states: &BodyStates<'_>) {
+    warm_start_with::<Avx>(constraints, states)
+}
+
+#[inline(always)]
+fn warm_start_with<V: Lanes>(constraints: &[WideConstraint], states: &BodyStates<'_>) {
     for c in constraints {
-        let mut a = gather(states, &c.body_a);
-        let mut b = gather(states, &c.body_b);
+        let mut a = gather::<V>(states, &c.body_a);
+        let mut b = gather::<V>(states, &c.body_b);
         let m = c.masses();
-        let (nx, ny) = (c.normal_x, c.normal_y);
+        let (nx, ny) = (V::load(c.normal_x), V::load(c.normal_y));
         for p in &c.points {
             // P = λn·n + λt·t with t = (ny, −nx).
-            let px = p.normal_impulse * nx + p.tangent_impulse * ny;
-            let py = p.normal_impulse * ny - p.tangent_impulse * nx;
-            apply(m, &mut a, &mut b, &p.r, px, py);
+            let (normal, tangent) = (V::load(p.normal_impulse), V::load(p.tangent_impulse));
+            let px = normal * nx + tangent * ny;
+            let py = normal * ny - tangent * nx;
+            apply(m, &mut a, &mut b, &p.r.load(), px, py);
         }
         scatter(states, &c.body_a, c.dynamic_a, &a);
         scatter(states, &c.body_b, c.dynamic_b, &b);
@@ -416,20 +462,54 @@ pub fn solve(
     inv_h: f32,
     use_bias: bool,
     max_push: f32,
+    use_avx: bool,
 ) {
-    let inv_h = f32x8::splat(inv_h);
-    let neg_push = f32x8::splat(-max_push);
-    let zero = f32x8::ZERO;
-    let one = f32x8::ONE;
+    dispatch!(
+        use_avx,
+        solve_with,
+        solve_avx2,
+        (constraints, states, inv_h, use_bias, max_push)
+    )
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn solve_avx2(
+    constraints: &mut [WideConstraint],
+    states: &BodyStates<'_>,
+    inv_h: f32,
+    use_bias: bool,
+    max_push: f32,
+) {
+    solve_with::<Avx>(constraints, states, inv_h, use_bias, max_push)
+}
+
+#[inline(always)]
+fn solve_with<V: Lanes>(
+    constraints: &mut [WideConstraint],
+    states: &BodyStates<'_>,
+    inv_h: f32,
+    use_bias: bool,
+    max_push: f32,
+) {
+    let inv_h = V::splat(inv_h);
+    let neg_push = V::splat(-max_push);
+    let zero = V::splat(0.0);
+    let one = V::splat(1.0);
     for c in constraints {
-        let mut a = gather(states, &c.body_a);
-        let mut b = gather(states, &c.body_b);
+        let mut a = gather::<V>(states, &c.body_a);
+        let mut b = gather::<V>(states, &c.body_b);
         let m = c.masses();
-        let (nx, ny) = (c.normal_x, c.normal_y);
+        let (nx, ny) = (V::load(c.normal_x), V::load(c.normal_y));
         let dpx = b.dpx - a.dpx;
         let dpy = b.dpy - a.dpy;
+        let (c_mass_scale, c_bias_rate, c_impulse_scale) = (
+            V::load(c.mass_scale),
+            V::load(c.bias_rate),
+            V::load(c.impulse_scale),
+        );
         for p in &mut c.points {
-            let r = p.r;
+            let r = p.r.load::<V>();
             // Current separation from the substep deltas (rotated anchors), normal fixed.
             let prax = a.dqc * r.ax - a.dqs * r.ay;
             let pray = a.dqs * r.ax + a.dqc * r.ay;
@@ -437,38 +517,40 @@ pub fn solve(
             let prby = b.dqs * r.bx + b.dqc * r.by;
             let dx = dpx + (prbx - prax);
             let dy = dpy + (prby - pray);
-            let s = (dx * nx + dy * ny) + p.base_separation;
-            let speculative = s.simd_gt(zero);
+            let s = (dx * nx + dy * ny) + V::load(p.base_separation);
+            let speculative = s.gt(zero);
             let (bias, mass_scale, impulse_scale) = if use_bias {
-                let soft = (c.mass_scale * c.bias_rate * s).fast_max(neg_push);
+                let soft = (c_mass_scale * c_bias_rate * s).fast_max(neg_push);
                 (
                     speculative.select(s * inv_h, soft),
-                    speculative.select(one, c.mass_scale),
-                    speculative.select(zero, c.impulse_scale),
+                    speculative.select(one, c_mass_scale),
+                    speculative.select(zero, c_impulse_scale),
                 )
             } else {
                 (speculative.select(s * inv_h, zero), one, zero)
             };
             let (dvx, dvy) = relative_velocity(&a, &b, &r);
             let vn = dvx * nx + dvy * ny;
-            let impulse =
-                -p.normal_mass * (mass_scale * vn + bias) - impulse_scale * p.normal_impulse;
+            let impulse = -V::load(p.normal_mass) * (mass_scale * vn + bias)
+                - impulse_scale * V::load(p.normal_impulse);
             let applied = accumulate_normal(p, impulse, None);
             apply(m, &mut a, &mut b, &r, applied * nx, applied * ny);
         }
         if !use_bias && c.any_friction {
             let (tx, ty) = (ny, -nx);
+            let friction = V::load(c.friction);
             for p in &mut c.points {
-                let r = p.r;
+                let r = p.r.load::<V>();
                 let (dvx, dvy) = relative_velocity(&a, &b, &r);
                 let vt = dvx * tx + dvy * ty;
-                let impulse = -p.tangent_mass * vt;
-                let max_friction = c.friction * p.normal_impulse;
-                let new_impulse = (p.tangent_impulse + impulse)
+                let impulse = -V::load(p.tangent_mass) * vt;
+                let max_friction = friction * V::load(p.normal_impulse);
+                let old = V::load(p.tangent_impulse);
+                let new_impulse = (old + impulse)
                     .fast_min(max_friction)
                     .fast_max(-max_friction);
-                let applied = new_impulse - p.tangent_impulse;
-                p.tangent_impulse = new_impulse;
+                let applied = new_impulse - old;
+                p.tangent_impulse = new_impulse.store();
                 apply(m, &mut a, &mut b, &r, applied * tx, applied * ty);
             }
         }
@@ -482,29 +564,56 @@ pub fn apply_restitution(
     constraints: &mut [WideConstraint],
     states: &BodyStates<'_>,
     threshold: f32,
+    use_avx: bool,
 ) {
-    let neg_threshold = f32x8::splat(-threshold);
-    let zero = f32x8::ZERO;
+    dispatch!(
+        use_avx,
+        apply_restitution_with,
+        apply_restitution_avx2,
+        (constraints, states, threshold)
+    )
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn apply_restitution_avx2(
+    constraints: &mut [WideConstraint],
+    states: &BodyStates<'_>,
+    threshold: f32,
+) {
+    apply_restitution_with::<Avx>(constraints, states, threshold)
+}
+
+#[inline(always)]
+fn apply_restitution_with<V: Lanes>(
+    constraints: &mut [WideConstraint],
+    states: &BodyStates<'_>,
+    threshold: f32,
+) {
+    let neg_threshold = V::splat(-threshold);
+    let zero = V::splat(0.0);
     for c in constraints {
         if !c.any_restitution {
             continue;
         }
-        let mut a = gather(states, &c.body_a);
-        let mut b = gather(states, &c.body_b);
+        let mut a = gather::<V>(states, &c.body_a);
+        let mut b = gather::<V>(states, &c.body_b);
         let m = c.masses();
-        let (nx, ny) = (c.normal_x, c.normal_y);
+        let (nx, ny) = (V::load(c.normal_x), V::load(c.normal_y));
+        let restitution = V::load(c.restitution);
         for p in &mut c.points {
+            let relative = V::load(p.relative_velocity);
             // Lanes that approached slower than the threshold, or never pushed, are left alone.
-            let active = neg_threshold.simd_gt(p.relative_velocity)
-                & p.total_normal_impulse.simd_gt(zero)
-                & c.restitution.simd_gt(zero);
-            if active.to_bitmask() == 0 {
+            let active = neg_threshold.gt(relative)
+                & V::load(p.total_normal_impulse).gt(zero)
+                & restitution.gt(zero);
+            if !active.any() {
                 continue;
             }
-            let r = p.r;
+            let r = p.r.load::<V>();
             let (dvx, dvy) = relative_velocity(&a, &b, &r);
             let vn = dvx * nx + dvy * ny;
-            let impulse = -p.normal_mass * (vn + c.restitution * p.relative_velocity);
+            let impulse = -V::load(p.normal_mass) * (vn + restitution * relative);
             let applied = accumulate_normal(p, impulse, Some(active));
             apply(m, &mut a, &mut b, &r, applied * nx, applied * ny);
         }
