@@ -112,6 +112,8 @@ mod imp {
         repeat: u32,
         steps: u32,
         ms: f64,
+        /// Mean ms per step of each stage the engine reports (`peers::STAGES` names).
+        stages: Vec<(&'static str, f64)>,
     }
 
     /// The tumble settings of a scene (what the peers are told where they have the knob).
@@ -168,17 +170,40 @@ mod imp {
             let b = self.world.body(index);
             Ok([b.linear_velocity.x, b.linear_velocity.y, b.angular_velocity])
         }
+        fn stages(&mut self) -> Vec<(&'static str, f64)> {
+            let p = self.world.profile();
+            vec![
+                ("broad phase", p.broad_phase_ms),
+                ("narrow phase", p.narrow_phase_ms),
+                ("prepare", p.prepare_ms),
+                ("substeps", p.solve_ms),
+                ("store impulses", p.store_impulses_ms),
+                ("finalize", p.finalize_ms),
+            ]
+        }
     }
 
-    /// Mean wall ms of `peer.step()` over `steps` steps; nothing else is inside the clock.
-    fn time_steps(peer: &mut dyn Peer, steps: u32) -> Result<f64> {
+    /// Mean wall ms of `peer.step()` over `steps` steps (nothing else is inside the clock),
+    /// and the mean of each stage the peer reports.
+    fn time_steps(peer: &mut dyn Peer, steps: u32) -> Result<(f64, Vec<(&'static str, f64)>)> {
         let mut total = 0.0;
+        let mut stages: Vec<(&'static str, f64)> = Vec::new();
         for _ in 0..steps {
             let t = Instant::now();
             peer.step()?;
             total += t.elapsed().as_secs_f64();
+            for (k, (name, ms)) in peer.stages().into_iter().enumerate() {
+                match stages.get_mut(k) {
+                    Some(s) => s.1 += ms,
+                    None => stages.push((name, ms)),
+                }
+            }
         }
-        Ok(total * 1e3 / f64::from(steps.max(1)))
+        let n = f64::from(steps.max(1));
+        for s in &mut stages {
+            s.1 /= n;
+        }
+        Ok((total * 1e3 / n, stages))
     }
 
     /// What the build and the machine may spoil, said before the numbers.
@@ -271,7 +296,7 @@ mod imp {
                             repeat + 1
                         ));
                         let mut peer = build(engine, scene, settings, t)?;
-                        let ms = time_steps(peer.as_mut(), *steps)?;
+                        let (ms, stages) = time_steps(peer.as_mut(), *steps)?;
                         drop(peer);
                         measures.push(Measure {
                             scene: scene.name.clone(),
@@ -281,6 +306,7 @@ mod imp {
                             repeat,
                             steps: *steps,
                             ms,
+                            stages,
                         });
                         bar.inc(1);
                     }
@@ -298,6 +324,7 @@ mod imp {
         let load = format!("{load_before} before, {} after", machine::load_average());
         let summary = summarise(&measures, &list, &threads);
         print!("{}", text_table(&summary, args.repeats));
+        print!("\n{}", stage_table(&measures, &summary));
         if let Some(c) = &check {
             print!("{}", c.text());
         }
@@ -305,7 +332,15 @@ mod imp {
         let md = args.out_dir.join("compare.md");
         write(
             &md,
-            &markdown(&summary, check.as_ref(), &warnings, args, &threads, &load),
+            &markdown(
+                &measures,
+                &summary,
+                check.as_ref(),
+                &warnings,
+                args,
+                &threads,
+                &load,
+            ),
         )?;
         written.push(md);
         let csv = args.out_dir.join("compare.csv");
@@ -563,7 +598,65 @@ mod imp {
         })
     }
 
+    /// Per scene and thread count, the stages of each engine's fastest run (the least
+    /// disturbed), as mean ms per step; "other" is the step's time outside the stages.
+    fn stage_table(measures: &[Measure], lines: &[Line]) -> String {
+        let mut md = String::new();
+        let _ = writeln!(
+            md,
+            "## Where the time goes (ms per step, each engine's fastest run)\n"
+        );
+        let _ = writeln!(
+            md,
+            "Stages as each engine times them (tumble's `StepProfile`; Box2D's `b2Profile`, \
+             grouped as `peers/box2d.rs` says; Rapier reports none here). The stage that holds \
+             tumble back is the one with the largest difference.\n"
+        );
+        let _ = write!(md, "| scene | threads | engine | step |");
+        for s in crate::peers::STAGES {
+            let _ = write!(md, " {s} |");
+        }
+        let _ = writeln!(md, " other |");
+        let _ = writeln!(md, "|---|--:|---|--:|{}--:|", "--:|".repeat(STAGES_LEN));
+        for l in lines {
+            for engine in [Engine::Tumble, Engine::Box2d] {
+                let fastest = measures
+                    .iter()
+                    .filter(|m| m.scene == l.scene && m.threads == l.threads && m.engine == engine)
+                    .min_by(|a, b| a.ms.total_cmp(&b.ms));
+                let Some(m) = fastest else { continue };
+                if m.stages.is_empty() {
+                    continue;
+                }
+                let _ = write!(
+                    md,
+                    "| {} | {} | {} | {:.3} |",
+                    l.scene,
+                    l.threads,
+                    engine.title(),
+                    m.ms
+                );
+                let mut inside = 0.0;
+                for name in crate::peers::STAGES {
+                    let ms = m
+                        .stages
+                        .iter()
+                        .find(|(n, _)| *n == name)
+                        .map_or(0.0, |s| s.1);
+                    inside += ms;
+                    let _ = write!(md, " {ms:.3} |");
+                }
+                let _ = writeln!(md, " {:.3} |", m.ms - inside);
+            }
+        }
+        let _ = writeln!(md);
+        md
+    }
+
+    const STAGES_LEN: usize = crate::peers::STAGES.len();
+
     fn markdown(
+        measures: &[Measure],
         lines: &[Line],
         check: Option<&Check>,
         warnings: &[String],
@@ -664,6 +757,8 @@ mod imp {
             );
         }
         let _ = writeln!(md);
+
+        md.push_str(&stage_table(measures, lines));
 
         if let Some(c) = check {
             let _ = writeln!(md, "## Cross-check: do they simulate the same thing?\n");

@@ -148,4 +148,35 @@ impl Peer for Box2d {
         let w = ok(body.angular_velocity(), "Box2D angular velocity")?;
         Ok([v.x, v.y, w])
     }
+
+    /// `b2World_GetProfile`, grouped: broad phase = `pairs + refit`, narrow phase =
+    /// `collide`, prepare = `prepareStages + prepareConstraints`, substeps = `integrate
+    /// velocities + warm start + solve + integrate positions + relax + restitution`, store =
+    /// `storeImpulses`, finalize = `transforms + splitIslands + sleepIslands + bullets`.
+    /// Box2D times its solver stages on the orchestrating thread, so they include its waits.
+    fn stages(&mut self) -> Vec<(&'static str, f64)> {
+        let Ok(p) = self.world.profile() else {
+            return Vec::new();
+        };
+        let ms = |x: f32| f64::from(x);
+        vec![
+            ("broad phase", ms(p.pairs) + ms(p.refit)),
+            ("narrow phase", ms(p.collide)),
+            ("prepare", ms(p.solver_setup) + ms(p.prepare_constraints)),
+            (
+                "substeps",
+                ms(p.integrate_velocities)
+                    + ms(p.warm_start)
+                    + ms(p.solve_impulses)
+                    + ms(p.integrate_positions)
+                    + ms(p.relax_impulses)
+                    + ms(p.apply_restitution),
+            ),
+            ("store impulses", ms(p.store_impulses)),
+            (
+                "finalize",
+                ms(p.transforms) + ms(p.split_islands) + ms(p.sleep_islands) + ms(p.bullets),
+            ),
+        ]
+    }
 }

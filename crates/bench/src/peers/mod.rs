@@ -20,7 +20,27 @@ pub trait Peer {
     /// Body `index` of the scene: linear velocity of its centre of mass and angular velocity
     /// (vx, vy, w).
     fn velocity(&mut self, index: usize) -> Result<[f32; 3]>;
+    /// The last step's time per stage in ms, under the common names of [`STAGES`] (a peer
+    /// that cannot tell returns nothing).
+    #[cfg_attr(not(feature = "peers"), allow(dead_code))]
+    fn stages(&mut self) -> Vec<(&'static str, f64)> {
+        Vec::new()
+    }
 }
+
+/// Stage names comparable across engines, in step order: finding new pairs (and refitting
+/// the tree), the narrow phase, preparing constraints, the substep loop (integration, warm
+/// start, solve, relax, restitution), storing impulses for the next warm start, finalizing
+/// bodies. What each engine counts in each is said where it reports them.
+#[cfg_attr(not(feature = "peers"), allow(dead_code))]
+pub const STAGES: [&str; 6] = [
+    "broad phase",
+    "narrow phase",
+    "prepare",
+    "substeps",
+    "store impulses",
+    "finalize",
+];
 
 /// A peer error as an `anyhow` error (the peers' error types are not all `Send + Sync`).
 #[cfg(feature = "peers")]

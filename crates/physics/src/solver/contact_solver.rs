@@ -198,24 +198,66 @@ pub fn prepare_point(
     sb: &BodyState,
     separation: f32,
 ) {
-    let n = c.normal;
+    let prepared = point_terms(
+        c.normal,
+        [c.inv_mass_a, c.inv_i_a, c.inv_mass_b, c.inv_i_b],
+        p.anchor_a,
+        p.anchor_b,
+        sa,
+        sb,
+        separation,
+    );
+    p.base_separation = prepared.base_separation;
+    p.normal_mass = prepared.normal_mass;
+    p.tangent_mass = prepared.tangent_mass;
+    p.total_normal_impulse = 0.0;
+    p.relative_velocity = prepared.relative_velocity;
+}
+
+/// What prepare computes for one contact point (SOFT_STEP.md 2.4).
+#[derive(Clone, Copy, Debug)]
+pub struct PointTerms {
+    /// Separation minus the anchors' offset along the normal.
+    pub base_separation: f32,
+    /// Effective mass along the normal (0 when neither body responds).
+    pub normal_mass: f32,
+    /// Effective mass along the tangent.
+    pub tangent_mass: f32,
+    /// Normal relative velocity before the solve.
+    pub relative_velocity: f32,
+}
+
+/// The one definition of a point's prepare terms, shared by the scalar and the 8-lane
+/// constraints so both agree bit for bit; `masses` is `[inv_mass_a, inv_i_a, inv_mass_b,
+/// inv_i_b]`.
+#[inline(always)]
+pub fn point_terms(
+    n: Vec2,
+    masses: [f32; 4],
+    ra: Vec2,
+    rb: Vec2,
+    sa: &BodyState,
+    sb: &BodyState,
+    separation: f32,
+) -> PointTerms {
+    let [ma, ia, mb, ib] = masses;
     let t = right_perp(n);
-    let (ra, rb) = (p.anchor_a, p.anchor_b);
-    p.base_separation = separation - dot(rb - ra, n);
     let rna = cross(ra, n);
     let rnb = cross(rb, n);
-    let k_normal = c.inv_mass_a + c.inv_mass_b + c.inv_i_a * rna * rna + c.inv_i_b * rnb * rnb;
-    p.normal_mass = if k_normal > 0.0 { 1.0 / k_normal } else { 0.0 };
+    let k_normal = ma + mb + ia * rna * rna + ib * rnb * rnb;
     let rta = cross(ra, t);
     let rtb = cross(rb, t);
-    let k_tangent = c.inv_mass_a + c.inv_mass_b + c.inv_i_a * rta * rta + c.inv_i_b * rtb * rtb;
-    p.tangent_mass = if k_tangent > 0.0 {
-        1.0 / k_tangent
-    } else {
-        0.0
-    };
-    p.total_normal_impulse = 0.0;
-    p.relative_velocity = dot(n, relative_velocity(sa.v, sa.w, ra, sb.v, sb.w, rb));
+    let k_tangent = ma + mb + ia * rta * rta + ib * rtb * rtb;
+    PointTerms {
+        base_separation: separation - dot(rb - ra, n),
+        normal_mass: if k_normal > 0.0 { 1.0 / k_normal } else { 0.0 },
+        tangent_mass: if k_tangent > 0.0 {
+            1.0 / k_tangent
+        } else {
+            0.0
+        },
+        relative_velocity: dot(n, relative_velocity(sa.v, sa.w, ra, sb.v, sb.w, rb)),
+    }
 }
 
 /// Applies last step's accumulated impulses again at the start of a substep.

@@ -13,31 +13,26 @@ pub const DYNAMIC_COLOR_COUNT: usize = COLOR_COUNT - 4;
 /// The overflow colour's index in colour tables: constraints that fit nowhere.
 pub const OVERFLOW: usize = COLOR_COUNT - 1;
 
-/// Per-colour bitsets over body ids, reused between steps.
+/// For each body, the colours that already hold one of its constraints (bit c = colour c),
+/// reused between steps. A body-major mask makes each assignment one bit scan instead of a
+/// walk over per-colour bitsets (same colours chosen, so the same results).
 #[derive(Default, Debug, Clone)]
 pub struct GraphColoring {
-    bits: Vec<Vec<u64>>,
+    used: Vec<u32>,
 }
 
+const _: () = assert!(COLOR_COUNT <= 32);
+
+/// Bits of the colours dynamic–dynamic constraints may take.
+const DYNAMIC_COLORS: u32 = (1 << DYNAMIC_COLOR_COUNT) - 1;
+/// Bits of the colours a constraint with one dynamic body may take: 1 to `OVERFLOW - 1`.
+const STATIC_COLORS: u32 = ((1 << OVERFLOW) - 1) & !1;
+
 impl GraphColoring {
-    /// Clears the bitsets for `body_count` bodies.
+    /// Clears the masks for `body_count` bodies.
     pub fn reset(&mut self, body_count: usize) {
-        let words = body_count.div_ceil(64);
-        self.bits.resize_with(COLOR_COUNT, Vec::new);
-        for b in &mut self.bits {
-            b.clear();
-            b.resize(words, 0);
-        }
-    }
-
-    #[inline]
-    fn test(&self, color: usize, body: usize) -> bool {
-        self.bits[color][body >> 6] & (1u64 << (body & 63)) != 0
-    }
-
-    #[inline]
-    fn set(&mut self, color: usize, body: usize) {
-        self.bits[color][body >> 6] |= 1u64 << (body & 63);
+        self.used.clear();
+        self.used.resize(body_count, 0);
     }
 
     /// Assigns a colour to a constraint between two bodies; `None` for a body means it is
@@ -46,24 +41,25 @@ impl GraphColoring {
     pub fn assign(&mut self, a: Option<usize>, b: Option<usize>) -> usize {
         match (a, b) {
             (Some(a), Some(b)) => {
-                for c in 0..DYNAMIC_COLOR_COUNT {
-                    if !self.test(c, a) && !self.test(c, b) {
-                        self.set(c, a);
-                        self.set(c, b);
-                        return c;
-                    }
+                // The lowest colour free for both.
+                let free = !(self.used[a] | self.used[b]) & DYNAMIC_COLORS;
+                if free == 0 {
+                    return OVERFLOW;
                 }
-                OVERFLOW
+                let c = free.trailing_zeros() as usize;
+                self.used[a] |= 1 << c;
+                self.used[b] |= 1 << c;
+                c
             }
             (Some(d), None) | (None, Some(d)) => {
-                // Top down, never colour 0, as Box2D does.
-                for c in (1..OVERFLOW).rev() {
-                    if !self.test(c, d) {
-                        self.set(c, d);
-                        return c;
-                    }
+                // Top down, never colour 0, as Box2D does: the highest free colour.
+                let free = !self.used[d] & STATIC_COLORS;
+                if free == 0 {
+                    return OVERFLOW;
                 }
-                OVERFLOW
+                let c = 31 - free.leading_zeros() as usize;
+                self.used[d] |= 1 << c;
+                c
             }
             (None, None) => OVERFLOW,
         }

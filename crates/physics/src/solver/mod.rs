@@ -25,7 +25,10 @@ use crate::math::dot;
 use crate::parallel::{BodyStates, SharedSlice, SpinBarrier, worker_range};
 use contact_solver::{BodyState, ConstraintPoint, ContactConstraint, Softness};
 use graph_color::{COLOR_COUNT, GraphColoring, OVERFLOW};
-use wide::{LANES, LaneInput, WideConstraint};
+use wide::{LANES, LaneIndex, LaneInput, LaneWriter, WideConstraint};
+
+/// `lane_of` for a contact solved as a scalar constraint.
+const NO_LANE: LaneIndex = u32::MAX;
 
 /// What prepare needs to know of a body.
 #[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
@@ -76,8 +79,11 @@ pub struct Solver {
     color_of: Vec<u8>,
     /// For each constraint slot, the index of the touching contact it is built from.
     slot_source: Vec<u32>,
-    /// For each wide constraint, the range of `constraints` packed into it.
-    wide_source: Vec<Range<u32>>,
+    /// For each wide constraint, its lanes in use.
+    wide_lanes: Vec<u8>,
+    /// For each touching contact (by position in `touching`), its lane of a wide
+    /// constraint, or `NO_LANE` when it is a scalar constraint.
+    lane_of: Vec<LaneIndex>,
     /// Whether any constraint of this step has restitution.
     pub any_restitution: bool,
     /// Solve colours eight constraints at a time (else on the scalar path; same results).
@@ -142,60 +148,83 @@ impl Solver {
             self.color_ranges.push(offset..offset + counts[color]);
             offset += counts[color];
         }
-        // Which touching contact goes to each slot (serial, cheap); then every slot is built
-        // in parallel, each writing only itself.
-        self.slot_source.clear();
-        self.slot_source.resize(offset, 0);
-        let mut cursor = start;
-        for (k, &color) in self.color_of.iter().enumerate() {
-            let color = color as usize;
-            self.slot_source[cursor[color]] = k as u32;
-            cursor[color] += 1;
+        // The colours are packed eight to a wide constraint; colour c's constraints fill
+        // wide constraints `wide_ranges[1 + c]` in contact order.
+        self.wide_ranges.clear();
+        self.wide_lanes.clear();
+        for (k, r) in self.color_ranges.iter().enumerate() {
+            let first = self.wide_lanes.len();
+            if k > 0 && self.use_wide {
+                let full = r.len() / LANES;
+                self.wide_lanes
+                    .extend(std::iter::repeat_n(LANES as u8, full));
+                if r.len() % LANES > 0 {
+                    self.wide_lanes.push((r.len() % LANES) as u8);
+                }
+            }
+            self.wide_ranges.push(first..self.wide_lanes.len());
         }
-        // Scalar constraints: the overflow always (it comes first), every colour when SIMD is
-        // off. Each slot is built in parallel and written only by its own task.
+        // Where each touching contact goes (serial, cheap): its slot among the scalar
+        // constraints, or its lane of a wide constraint.
         let scalar_len = if self.use_wide {
             self.color_ranges[0].end
         } else {
             offset
         };
+        self.slot_source.clear();
+        self.slot_source.resize(scalar_len, 0);
+        self.lane_of.clear();
+        self.lane_of.resize(touching.len(), NO_LANE);
+        let mut cursor = start;
+        for (k, &color) in self.color_of.iter().enumerate() {
+            let color = color as usize;
+            let slot = cursor[color];
+            cursor[color] += 1;
+            if slot < scalar_len {
+                self.slot_source[slot] = k as u32;
+            } else {
+                let rank = slot - start[color];
+                let wide = self.wide_ranges[1 + color].start + rank / LANES;
+                self.lane_of[k] = ((wide << 3) | (rank % LANES)) as u32;
+            }
+        }
+        // Scalar constraints: the overflow always (it comes first), every colour when SIMD is
+        // off. Each slot is built in parallel and written only by its own task.
         self.constraints
             .resize(scalar_len, ContactConstraint::default());
         let slot_source = &self.slot_source;
-        let build = |slot: usize| {
-            let contact_index = touching[slot_source[slot] as usize];
-            let c = contacts[contact_index as usize].input();
-            build_constraint(contact_index, &c, bodies, states, params)
-        };
         self.constraints
             .par_iter_mut()
             .with_min_len(256)
             .enumerate()
-            .for_each(|(slot, con)| *con = build(slot));
+            .for_each(|(slot, con)| {
+                let contact_index = touching[slot_source[slot] as usize];
+                let c = contacts[contact_index as usize].input();
+                *con = build_constraint(contact_index, &c, bodies, states, params);
+            });
 
-        // The colours, eight to a wide constraint, built straight into their lanes.
-        self.wide_ranges.clear();
-        self.wide_source.clear();
-        for (k, r) in self.color_ranges.iter().enumerate() {
-            let start = self.wide_source.len();
-            if k > 0 && self.use_wide {
-                let mut first = r.start;
-                while first < r.end {
-                    let last = (first + LANES).min(r.end);
-                    self.wide_source.push(first as u32..last as u32);
-                    first = last;
-                }
-            }
-            self.wide_ranges.push(start..self.wide_source.len());
-        }
-        let wide_source = &self.wide_source;
-        let pack = |w: &mut WideConstraint, r: &Range<u32>| {
-            w.prepare(
-                (r.end - r.start) as usize,
-                states,
-                params.warm_starting,
-                |l| {
-                    let contact = touching[slot_source[r.start as usize + l] as usize];
+        // The wide constraints, lane by lane in contact order (the contacts stream in; a walk
+        // by constraint read them scattered, 60 ns a lane on large_pyramid), then each
+        // constraint's masks and tail. Every field of every used lane is written, so the
+        // buffer is reused as it is (a fresh 2 MB allocation each step costs page faults).
+        self.wide
+            .resize(self.wide_lanes.len(), WideConstraint::EMPTY);
+        {
+            // SAFETY: every touching contact has its own lane (`lane_of` is injective on
+            // the lanes it assigns), and nothing else touches `self.wide` until `writer`
+            // is dropped at the end of this block.
+            #[allow(unsafe_code)]
+            let writer = unsafe { LaneWriter::shared(&mut self.wide) };
+            let lane_of = &self.lane_of;
+            (0..touching.len())
+                .into_par_iter()
+                .with_min_len(256)
+                .for_each(|k| {
+                    let at = lane_of[k];
+                    if at == NO_LANE {
+                        return;
+                    }
+                    let contact = touching[k];
                     let input = contacts[contact as usize].input();
                     let body_a = bodies[input.body_a as usize];
                     let body_b = bodies[input.body_b as usize];
@@ -204,38 +233,21 @@ impl Solver {
                     } else {
                         params.static_softness
                     };
-                    LaneInput {
+                    let lane = LaneInput {
                         contact,
                         input,
                         body_a,
                         body_b,
                         softness,
-                    }
-                },
-            )
-        };
-        // Reuse the buffer: a fresh 2 MB allocation each step costs page faults.
-        self.wide.resize(wide_source.len(), WideConstraint::EMPTY);
-        // The contacts of a colour lie scattered through the contact array: fetch the next
-        // wide constraint's while this one is built, or each lane waits on memory in turn
-        // (measured: 15% of a many_pyramids step stalled there).
-        let prefetch = |next: usize| {
-            if let Some(r) = wide_source.get(next) {
-                for slot in r.start..r.end {
-                    let contact = touching[slot_source[slot as usize] as usize];
-                    crate::parallel::prefetch(&contacts[contact as usize]);
-                }
-            }
-        };
+                    };
+                    writer.write(at, &lane, states, params.warm_starting);
+                });
+        }
         self.wide
             .par_iter_mut()
-            .zip(wide_source.par_iter())
-            .enumerate()
-            .with_min_len(32)
-            .for_each(|(i, (w, r))| {
-                prefetch(i + 1);
-                pack(w, r);
-            });
+            .zip(self.wide_lanes.par_iter())
+            .with_min_len(64)
+            .for_each(|(w, &lanes)| w.finish(lanes as usize));
         self.any_restitution = self.constraints.par_iter().any(|c| c.restitution > 0.0)
             || self.wide.par_iter().any(|w| w.any_restitution());
     }
@@ -277,23 +289,23 @@ impl Solver {
         };
         scalar.par_iter().with_min_len(256).for_each(store_scalar);
         if self.use_wide {
-            let wide = &self.wide;
-            wide.par_iter()
-                .enumerate()
-                .with_min_len(32)
-                .for_each(|(n, w)| {
-                    // As in prepare: the next constraint's contacts are scattered; fetch them early.
-                    if let Some(next) = wide.get(n + 1) {
-                        for i in next.contacts() {
-                            crate::parallel::prefetch_ptr(contacts.as_ptr_at(i as usize));
-                        }
+            // In contact order, as prepare wrote the lanes: the contacts are written as a
+            // stream and the lanes are read from one stream per colour.
+            let (wide, lane_of) = (&self.wide, &self.lane_of);
+            (0..lane_of.len())
+                .into_par_iter()
+                .with_min_len(256)
+                .for_each(|k| {
+                    let at = lane_of[k];
+                    if at == NO_LANE {
+                        return;
                     }
-                    w.for_each_lane_result(|i, k, r| {
-                        let i = i as usize;
-                        // SAFETY: as above; a contact is in one lane of one wide constraint.
-                        let contact = unsafe { &mut contacts.range_mut(i..i + 1)[0] };
-                        store(contact, k, r);
-                    });
+                    let w = &wide[(at >> 3) as usize];
+                    let lane = (at & 7) as usize;
+                    let i = w.contact_of(lane) as usize;
+                    // SAFETY: as above; a contact is in one lane of one wide constraint.
+                    let contact = unsafe { &mut contacts.range_mut(i..i + 1)[0] };
+                    w.lane_results(lane, |point, r| store(contact, point, r));
                 });
         }
     }

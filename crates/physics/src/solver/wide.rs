@@ -6,11 +6,13 @@
 //! A colour never holds two constraints on one dynamic body, so lanes never conflict. The
 //! overflow, whose constraints may share bodies, stays on the scalar path.
 
+use std::marker::PhantomData;
+
 use glam::Vec2;
 use wide::{f32x4, f32x8};
 
 use super::PointResult;
-use super::contact_solver::{BodyState, Softness};
+use super::contact_solver::{BodyState, Softness, point_terms};
 #[cfg(target_arch = "x86_64")]
 use super::lanes::Avx;
 use super::lanes::Lanes;
@@ -32,6 +34,145 @@ pub struct LaneInput<'c> {
     pub body_b: SolverBody,
     /// The contact's spring (stiffer against static bodies).
     pub softness: Softness,
+}
+
+/// Wide constraints whose lanes workers fill concurrently, one lane per contact, walking
+/// the contacts in their own order (so the contacts stream from memory, where a walk in
+/// constraint order would read them scattered: the colours interleave in the contact array).
+pub struct LaneWriter<'a> {
+    ptr: *mut WideConstraint,
+    len: usize,
+    _borrow: PhantomData<&'a mut [WideConstraint]>,
+}
+
+// SAFETY: access follows the contract of `LaneWriter::shared`.
+#[allow(unsafe_code)]
+unsafe impl Send for LaneWriter<'_> {}
+// SAFETY: as above.
+#[allow(unsafe_code)]
+unsafe impl Sync for LaneWriter<'_> {}
+
+/// `lane` packed with its constraint: `wide << 3 | lane`.
+pub type LaneIndex = u32;
+
+#[allow(unsafe_code)]
+impl<'a> LaneWriter<'a> {
+    /// Shared access for concurrent lane writes.
+    ///
+    /// # Safety
+    /// While it lives, each lane of each constraint is written by at most one call of
+    /// [`write`](Self::write), and nothing else reads or writes the constraints.
+    pub unsafe fn shared(wide: &'a mut [WideConstraint]) -> Self {
+        Self {
+            ptr: wide.as_mut_ptr(),
+            len: wide.len(),
+            _borrow: PhantomData,
+        }
+    }
+
+    /// Writes every field of one lane from its contact: copies, plus the point terms of
+    /// `contact_solver::point_terms` (the scalar constraints' own function, so both agree
+    /// bit for bit). A point the manifold lacks gets zeros, so it applies no impulse.
+    #[inline]
+    pub fn write(
+        &self,
+        at: LaneIndex,
+        x: &LaneInput<'_>,
+        states: &[BodyState],
+        warm_starting: bool,
+    ) {
+        let (wide, l) = ((at >> 3) as usize, (at & 7) as usize);
+        assert!(wide < self.len);
+        let c = &x.input;
+        let m = c.manifold;
+        let masses = [
+            x.body_a.inv_mass,
+            x.body_a.inv_inertia,
+            x.body_b.inv_mass,
+            x.body_b.inv_inertia,
+        ];
+        let (sa, sb) = (&states[c.body_a as usize], &states[c.body_b as usize]);
+        // ax, ay, bx, by, base separation, normal, tangent and total impulse, normal and
+        // tangent mass, relative velocity.
+        let mut points = [[0.0f32; 11]; 2];
+        for (k, mp) in m.points().iter().enumerate() {
+            let t = point_terms(
+                m.normal,
+                masses,
+                mp.anchor_a,
+                mp.anchor_b,
+                sa,
+                sb,
+                mp.separation,
+            );
+            let (normal, tangent) = if warm_starting {
+                (mp.normal_impulse, mp.tangent_impulse)
+            } else {
+                (0.0, 0.0)
+            };
+            points[k] = [
+                mp.anchor_a.x,
+                mp.anchor_a.y,
+                mp.anchor_b.x,
+                mp.anchor_b.y,
+                t.base_separation,
+                normal,
+                tangent,
+                0.0,
+                t.normal_mass,
+                t.tangent_mass,
+                t.relative_velocity,
+            ];
+        }
+        let flags = u8::from(x.body_a.dynamic)
+            | (u8::from(x.body_b.dynamic) << 1)
+            | (u8::from(c.friction > 0.0) << 2)
+            | (u8::from(c.restitution > 0.0) << 3);
+        // SAFETY: `wide` is in bounds (asserted) and `l < LANES`; each write goes through a
+        // raw pointer to this lane's own element of a lane array, which no other call
+        // touches (contract of `shared`), and no reference to the shared constraint is made.
+        unsafe {
+            let w = self.ptr.add(wide);
+            macro_rules! put {
+                ($field:expr, $ty:ty, $value:expr) => {
+                    std::ptr::addr_of_mut!($field)
+                        .cast::<$ty>()
+                        .add(l)
+                        .write($value)
+                };
+            }
+            put!((*w).contact, u32, x.contact);
+            put!((*w).count, u8, m.count as u8);
+            put!((*w).flags, u8, flags);
+            put!((*w).body_a, u32, c.body_a);
+            put!((*w).body_b, u32, c.body_b);
+            put!((*w).inv_mass_a, f32, masses[0]);
+            put!((*w).inv_i_a, f32, masses[1]);
+            put!((*w).inv_mass_b, f32, masses[2]);
+            put!((*w).inv_i_b, f32, masses[3]);
+            put!((*w).normal_x, f32, m.normal.x);
+            put!((*w).normal_y, f32, m.normal.y);
+            put!((*w).friction, f32, c.friction);
+            put!((*w).restitution, f32, c.restitution);
+            put!((*w).bias_rate, f32, x.softness.bias_rate);
+            put!((*w).mass_scale, f32, x.softness.mass_scale);
+            put!((*w).impulse_scale, f32, x.softness.impulse_scale);
+            for (k, v) in points.iter().enumerate() {
+                let p = std::ptr::addr_of_mut!((*w).points[k]);
+                put!((*p).r.ax, f32, v[0]);
+                put!((*p).r.ay, f32, v[1]);
+                put!((*p).r.bx, f32, v[2]);
+                put!((*p).r.by, f32, v[3]);
+                put!((*p).base_separation, f32, v[4]);
+                put!((*p).normal_impulse, f32, v[5]);
+                put!((*p).tangent_impulse, f32, v[6]);
+                put!((*p).total_normal_impulse, f32, v[7]);
+                put!((*p).normal_mass, f32, v[8]);
+                put!((*p).tangent_mass, f32, v[9]);
+                put!((*p).relative_velocity, f32, v[10]);
+            }
+        }
+    }
 }
 
 /// One contact point in eight lanes.
@@ -64,6 +205,10 @@ pub struct WideConstraint {
     contact: [u32; LANES],
     /// Manifold points per lane.
     count: [u8; LANES],
+    /// Per lane: bit 0 body A dynamic, 1 body B dynamic, 2 friction, 3 restitution (what
+    /// `finish` folds into the masks below; lanes are written one by one, possibly by
+    /// different workers, so nothing per-constraint is written while lanes are).
+    flags: [u8; LANES],
     body_a: [u32; LANES],
     body_b: [u32; LANES],
     /// Lanes whose body is dynamic (the only ones written back).
@@ -110,6 +255,7 @@ impl WideConstraint {
     pub const EMPTY: WideConstraint = WideConstraint {
         contact: [0; LANES],
         count: [0; LANES],
+        flags: [0; LANES],
         body_a: [0; LANES],
         body_b: [0; LANES],
         dynamic_a: 0,
@@ -131,97 +277,62 @@ impl WideConstraint {
         points: [WidePoint::ZERO; 2],
     };
 
-    /// Builds `lanes` constraints (1 to 8) of one colour straight into their lanes: the
-    /// contact data is copied lane by lane, then the effective masses, base separations and
-    /// pre-solve normal velocities are computed eight at a time. The arithmetic is the scalar
-    /// `contact_solver::prepare_point`'s, operation for operation, so both paths agree bit
-    /// for bit (and eight divisions cost one).
-    ///
-    /// Written in place: returning the 1.3 KB constraint by value cost a copy per constraint.
-    pub fn prepare<'c>(
-        &mut self,
-        lanes: usize,
-        states: &[BodyState],
-        warm_starting: bool,
-        mut lane: impl FnMut(usize) -> LaneInput<'c>,
-    ) {
+    /// Completes a constraint whose first `lanes` lanes were written by [`LaneWriter`]:
+    /// folds the lanes' flags into the masks and clears the unused tail lanes (their bodies
+    /// are lane 0's, with zero masses: they read, never write, and apply no impulse).
+    pub fn finish(&mut self, lanes: usize) {
         debug_assert!((1..=LANES).contains(&lanes));
-        let first = lane(0);
-        let z = f32x8::ZERO;
-        let w = self;
-        *w = WideConstraint {
-            // Tail lanes point at the first lane's bodies with zero masses: they read, never
-            // write, and apply no impulse.
-            body_a: [first.input.body_a; LANES],
-            body_b: [first.input.body_b; LANES],
-            lanes: lanes as u8,
-            ..WideConstraint::EMPTY
-        };
-        // Per point: the manifold's separation, and whether the lane has that point.
-        let mut separation = [[0.0f32; LANES]; 2];
-        let mut used = [[0.0f32; LANES]; 2];
-        let mut put = |w: &mut WideConstraint, l: usize, x: &LaneInput<'_>| {
-            let c = &x.input;
-            let m = c.manifold;
-            w.contact[l] = x.contact;
-            w.count[l] = m.count as u8;
-            w.body_a[l] = c.body_a;
-            w.body_b[l] = c.body_b;
-            w.dynamic_a |= u8::from(x.body_a.dynamic) << l;
-            w.dynamic_b |= u8::from(x.body_b.dynamic) << l;
-            w.any_friction |= c.friction > 0.0;
-            w.any_restitution |= c.restitution > 0.0;
-            w.inv_mass_a.as_mut_array()[l] = x.body_a.inv_mass;
-            w.inv_i_a.as_mut_array()[l] = x.body_a.inv_inertia;
-            w.inv_mass_b.as_mut_array()[l] = x.body_b.inv_mass;
-            w.inv_i_b.as_mut_array()[l] = x.body_b.inv_inertia;
-            w.normal_x.as_mut_array()[l] = m.normal.x;
-            w.normal_y.as_mut_array()[l] = m.normal.y;
-            w.friction.as_mut_array()[l] = c.friction;
-            w.restitution.as_mut_array()[l] = c.restitution;
-            w.bias_rate.as_mut_array()[l] = x.softness.bias_rate;
-            w.mass_scale.as_mut_array()[l] = x.softness.mass_scale;
-            w.impulse_scale.as_mut_array()[l] = x.softness.impulse_scale;
-            for (k, mp) in m.points().iter().enumerate() {
-                let p = &mut w.points[k];
-                p.r.ax.as_mut_array()[l] = mp.anchor_a.x;
-                p.r.ay.as_mut_array()[l] = mp.anchor_a.y;
-                p.r.bx.as_mut_array()[l] = mp.anchor_b.x;
-                p.r.by.as_mut_array()[l] = mp.anchor_b.y;
-                if warm_starting {
-                    p.normal_impulse.as_mut_array()[l] = mp.normal_impulse;
-                    p.tangent_impulse.as_mut_array()[l] = mp.tangent_impulse;
-                }
-                separation[k][l] = mp.separation;
-                used[k][l] = 1.0;
-            }
-        };
-        put(w, 0, &first);
-        for l in 1..lanes {
-            let x = lane(l);
-            put(w, l, &x);
+        self.lanes = lanes as u8;
+        let (mut dynamic_a, mut dynamic_b) = (0u8, 0u8);
+        let mut any = 0u8;
+        for l in 0..lanes {
+            let f = self.flags[l];
+            dynamic_a |= (f & 1) << l;
+            dynamic_b |= ((f >> 1) & 1) << l;
+            any |= f;
         }
-        let a = gather_with::<f32x8>(|i| states[i], &w.body_a);
-        let b = gather_with::<f32x8>(|i| states[i], &w.body_b);
-        let m = w.masses::<f32x8>();
-        let (nx, ny) = (w.normal_x, w.normal_y);
-        let (tx, ty) = (ny, -nx);
-        for (k, p) in w.points.iter_mut().enumerate() {
-            let r = p.r.load::<f32x8>();
-            let used = f32x8::new(used[k]).simd_gt(z);
-            let base = f32x8::new(separation[k]) - ((r.bx - r.ax) * nx + (r.by - r.ay) * ny);
-            let rna = r.ax * ny - r.ay * nx;
-            let rnb = r.bx * ny - r.by * nx;
-            let k_normal = m.ma + m.mb + m.ia * rna * rna + m.ib * rnb * rnb;
-            let rta = r.ax * ty - r.ay * tx;
-            let rtb = r.bx * ty - r.by * tx;
-            let k_tangent = m.ma + m.mb + m.ia * rta * rta + m.ib * rtb * rtb;
-            let (dvx, dvy) = relative_velocity(&a, &b, &r);
-            // Unused points and tail lanes keep zeros, so they apply no impulse.
-            p.base_separation = used.select(base, z);
-            p.normal_mass = (used & k_normal.simd_gt(z)).select(f32x8::ONE / k_normal, z);
-            p.tangent_mass = (used & k_tangent.simd_gt(z)).select(f32x8::ONE / k_tangent, z);
-            p.relative_velocity = used.select(nx * dvx + ny * dvy, z);
+        self.dynamic_a = dynamic_a;
+        self.dynamic_b = dynamic_b;
+        self.any_friction = any & 4 != 0;
+        self.any_restitution = any & 8 != 0;
+        for l in lanes..LANES {
+            self.contact[l] = 0;
+            self.count[l] = 0;
+            self.flags[l] = 0;
+            self.body_a[l] = self.body_a[0];
+            self.body_b[l] = self.body_b[0];
+            for x in [
+                &mut self.inv_mass_a,
+                &mut self.inv_i_a,
+                &mut self.inv_mass_b,
+                &mut self.inv_i_b,
+                &mut self.normal_x,
+                &mut self.normal_y,
+                &mut self.friction,
+                &mut self.restitution,
+                &mut self.bias_rate,
+                &mut self.mass_scale,
+                &mut self.impulse_scale,
+            ] {
+                x.as_mut_array()[l] = 0.0;
+            }
+            for p in &mut self.points {
+                for x in [
+                    &mut p.r.ax,
+                    &mut p.r.ay,
+                    &mut p.r.bx,
+                    &mut p.r.by,
+                    &mut p.base_separation,
+                    &mut p.normal_impulse,
+                    &mut p.tangent_impulse,
+                    &mut p.total_normal_impulse,
+                    &mut p.normal_mass,
+                    &mut p.tangent_mass,
+                    &mut p.relative_velocity,
+                ] {
+                    x.as_mut_array()[l] = 0.0;
+                }
+            }
         }
     }
 
@@ -235,32 +346,29 @@ impl WideConstraint {
         self.contact[..self.lanes as usize].iter().copied()
     }
 
-    /// Calls `f(contact, point, impulses)` for each used lane's points, lane by lane (so a
-    /// contact's points are stored together).
+    /// The contact lane `lane` came from.
+    pub fn contact_of(&self, lane: usize) -> u32 {
+        self.contact[lane]
+    }
+
+    /// Calls `f(point, impulses)` for each point of lane `lane`.
     #[inline]
-    pub fn for_each_lane_result(&self, mut f: impl FnMut(u32, usize, &PointResult)) {
-        let arrays = |p: &WidePoint| {
-            (
-                *p.normal_impulse.as_array(),
-                *p.tangent_impulse.as_array(),
-                *p.total_normal_impulse.as_array(),
-                *p.relative_velocity.as_array(),
-            )
-        };
-        let points = [arrays(&self.points[0]), arrays(&self.points[1])];
-        for l in 0..self.lanes as usize {
-            for (k, (n, t, total, rv)) in points.iter().enumerate().take(self.count[l] as usize) {
-                f(
-                    self.contact[l],
-                    k,
-                    &PointResult {
-                        normal_impulse: n[l],
-                        tangent_impulse: t[l],
-                        total_normal_impulse: total[l],
-                        relative_velocity: rv[l],
-                    },
-                );
-            }
+    pub fn lane_results(&self, lane: usize, mut f: impl FnMut(usize, &PointResult)) {
+        for (k, p) in self
+            .points
+            .iter()
+            .enumerate()
+            .take(self.count[lane] as usize)
+        {
+            f(
+                k,
+                &PointResult {
+                    normal_impulse: p.normal_impulse.as_array()[lane],
+                    tangent_impulse: p.tangent_impulse.as_array()[lane],
+                    total_normal_impulse: p.total_normal_impulse.as_array()[lane],
+                    relative_velocity: p.relative_velocity.as_array()[lane],
+                },
+            );
         }
     }
 }
@@ -281,16 +389,10 @@ struct WideBody<V> {
 /// assembled float by float, which stalls on store forwarding.
 #[inline(always)]
 fn gather<V: Lanes>(states: &BodyStates<'_>, index: &[u32; LANES]) -> WideBody<V> {
-    gather_with(|i| states.get(i), index)
-}
-
-/// `gather` from any reader of states.
-#[inline(always)]
-fn gather_with<V: Lanes>(get: impl Fn(usize) -> BodyState, index: &[u32; LANES]) -> WideBody<V> {
     let mut motion = [[f32x4::ZERO; 4]; 2];
     let mut delta = [[f32x4::ZERO; 4]; 2];
     for l in 0..LANES {
-        let s = get(index[l] as usize);
+        let s = states.get(index[l] as usize);
         motion[l / 4][l % 4] = f32x4::new([s.v.x, s.v.y, s.w, 0.0]);
         delta[l / 4][l % 4] = f32x4::new([s.dp.x, s.dp.y, s.dq.c, s.dq.s]);
     }
