@@ -24,7 +24,8 @@ use crate::scene::{BodyDef, BodyKind, Limits, SceneDef};
 use crate::shape::{Aabb, Shape};
 use crate::solver::contact_solver::{BodyState, Softness};
 use crate::solver::{
-    BodyMotion, ContactInput, Solver, SolverBody, SolverContact, SolverParams, SubstepParams,
+    BodyMotion, ContactInput, NOT_DYNAMIC, Solver, SolverBody, SolverContact, SolverParams,
+    SubstepParams, Touching,
 };
 use crate::{AABB_MARGIN, SPECULATIVE_DISTANCE};
 
@@ -167,6 +168,11 @@ struct Contact {
     remove: bool,
     /// Poses when the manifold was last computed, for contact recycling.
     cache: Option<ContactCache>,
+    /// The bodies' masses (copied at creation; see `ContactInput::masses`). Not stored in
+    /// snapshots: restoring copies them from the bodies again, so a snapshot cannot make a
+    /// dynamic body look static to the colouring.
+    #[serde(skip)]
+    masses: [SolverBody; 2],
 }
 
 impl SolverContact for Contact {
@@ -178,6 +184,7 @@ impl SolverContact for Contact {
             friction: self.friction,
             restitution: self.restitution,
             manifold: &self.manifold,
+            masses: self.masses,
         }
     }
 }
@@ -264,7 +271,7 @@ pub struct World {
     pairs: FxHashMap<u64, u32>,
     solver: Solver,
     /// Indices of this step's touching contacts, in contact order (reused).
-    touching: Vec<u32>,
+    touching: Vec<Touching>,
     solver_bodies: Vec<SolverBody>,
     motion: Vec<BodyMotion>,
     /// `None` where the platform has no threads (see [`set_thread_source`]).
@@ -620,6 +627,12 @@ impl World {
         world.moved_flags = moved_flags;
         world.guarded = vec![false; n];
         world.contacts = snapshot.contacts;
+        for c in &mut world.contacts {
+            c.masses = [
+                world.solver_bodies[c.body_a as usize],
+                world.solver_bodies[c.body_b as usize],
+            ];
+        }
         world.steps = snapshot.steps;
         world.speed_caps = snapshot.speed_caps;
         world.tree_dirty = true;
@@ -859,6 +872,10 @@ impl World {
             manifold: Manifold::default(),
             remove: false,
             cache: None,
+            masses: [
+                self.solver_bodies[a as usize],
+                self.solver_bodies[b as usize],
+            ],
         };
         self.pairs
             .insert(pair_key(a, b), self.contacts.len() as u32);
@@ -941,20 +958,29 @@ impl World {
             static_softness: Softness::new(2.0 * hertz, s.contact_damping_ratio, h),
             warm_starting: s.warm_starting,
         };
+        // The touching contacts in contact order (in parallel; rayon keeps the order), each
+        // with what the serial colouring needs, so that it never reads the contacts.
         self.touching.clear();
-        self.touching.extend(
+        self.touching.par_extend(
             self.contacts
-                .iter()
+                .par_iter()
                 .enumerate()
+                .with_min_len(1024)
                 .filter(|(_, c)| c.manifold.count > 0)
-                .map(|(k, _)| k as u32),
+                .map(|(k, c)| {
+                    let side = |i: u32, m: &SolverBody| if m.dynamic { i } else { NOT_DYNAMIC };
+                    Touching {
+                        contact: k as u32,
+                        dynamic: [side(c.body_a, &c.masses[0]), side(c.body_b, &c.masses[1])],
+                    }
+                }),
         );
         profile.touching = self.touching.len();
         self.solver.use_wide = s.simd;
         self.solver.prepare(
             &self.touching,
             &self.contacts,
-            &self.solver_bodies,
+            self.solver_bodies.len(),
             &self.states,
             &params,
         );

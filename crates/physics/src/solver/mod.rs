@@ -31,7 +31,7 @@ use wide::{LANES, LaneIndex, LaneInput, LaneWriter, WideConstraint};
 const NO_LANE: LaneIndex = u32::MAX;
 
 /// What prepare needs to know of a body.
-#[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SolverBody {
     /// Inverse mass (0 for static and kinematic bodies).
     pub inv_mass: f32,
@@ -54,6 +54,21 @@ pub struct ContactInput<'a> {
     pub restitution: f32,
     /// This step's manifold (with warm-start impulses).
     pub manifold: &'a Manifold,
+    /// Both bodies' masses, as the contact keeps them (copied when it was made: a body's
+    /// mass never changes), so neither prepare nor the colouring looks the bodies up.
+    pub masses: [SolverBody; 2],
+}
+
+/// `Touching::dynamic` for a body that is not dynamic.
+pub const NOT_DYNAMIC: u32 = u32::MAX;
+
+/// A touching contact as the colouring sees it.
+#[derive(Clone, Copy, Debug)]
+pub struct Touching {
+    /// Its index in the contact array.
+    pub contact: u32,
+    /// Its bodies, each `NOT_DYNAMIC` unless dynamic (only dynamic bodies conflict).
+    pub dynamic: [u32; 2],
 }
 
 /// A contact the solver builds a constraint from (the world's contact type).
@@ -113,28 +128,24 @@ impl Solver {
         }
     }
 
-    /// Colours the touching contacts and builds their constraints; `touching` lists contact
-    /// indices in contact order.
+    /// Colours the touching contacts and builds their constraints; `touching` lists them in
+    /// contact order, `body_count` is the world's.
     pub fn prepare<C: SolverContact>(
         &mut self,
-        touching: &[u32],
+        touching: &[Touching],
         contacts: &[C],
-        bodies: &[SolverBody],
+        body_count: usize,
         states: &[BodyState],
         params: &SolverParams,
     ) {
-        self.coloring.reset(bodies.len());
+        // Greedy, in contact order: the one serial part, so it reads only the compact
+        // `touching` records and the per-body colour masks, never the contacts.
+        self.coloring.reset(body_count);
         self.color_of.clear();
         let mut counts = [0usize; COLOR_COUNT];
-        for &k in touching {
-            let c = contacts[k as usize].input();
-            let a = bodies[c.body_a as usize]
-                .dynamic
-                .then_some(c.body_a as usize);
-            let b = bodies[c.body_b as usize]
-                .dynamic
-                .then_some(c.body_b as usize);
-            let color = self.coloring.assign(a, b);
+        for t in touching {
+            let side = |d: u32| (d != NOT_DYNAMIC).then_some(d as usize);
+            let color = self.coloring.assign(side(t.dynamic[0]), side(t.dynamic[1]));
             counts[color] += 1;
             self.color_of.push(color as u8);
         }
@@ -198,9 +209,9 @@ impl Solver {
             .with_min_len(256)
             .enumerate()
             .for_each(|(slot, con)| {
-                let contact_index = touching[slot_source[slot] as usize];
+                let contact_index = touching[slot_source[slot] as usize].contact;
                 let c = contacts[contact_index as usize].input();
-                *con = build_constraint(contact_index, &c, bodies, states, params);
+                *con = build_constraint(contact_index, &c, states, params);
             });
 
         // The wide constraints, lane by lane in contact order (the contacts stream in; a walk
@@ -224,10 +235,9 @@ impl Solver {
                     if at == NO_LANE {
                         return;
                     }
-                    let contact = touching[k];
+                    let contact = touching[k].contact;
                     let input = contacts[contact as usize].input();
-                    let body_a = bodies[input.body_a as usize];
-                    let body_b = bodies[input.body_b as usize];
+                    let [body_a, body_b] = input.masses;
                     let softness = if body_a.dynamic && body_b.dynamic {
                         params.contact_softness
                     } else {
@@ -422,12 +432,10 @@ fn run_parallel(
 fn build_constraint(
     contact_index: u32,
     c: &ContactInput<'_>,
-    bodies: &[SolverBody],
     states: &[BodyState],
     params: &SolverParams,
 ) -> ContactConstraint {
-    let ba = bodies[c.body_a as usize];
-    let bb = bodies[c.body_b as usize];
+    let [ba, bb] = c.masses;
     let m = c.manifold;
     let mut con = ContactConstraint {
         body_a: c.body_a,

@@ -92,38 +92,6 @@ impl<'a> LaneWriter<'a> {
             x.body_b.inv_inertia,
         ];
         let (sa, sb) = (&states[c.body_a as usize], &states[c.body_b as usize]);
-        // ax, ay, bx, by, base separation, normal, tangent and total impulse, normal and
-        // tangent mass, relative velocity.
-        let mut points = [[0.0f32; 11]; 2];
-        for (k, mp) in m.points().iter().enumerate() {
-            let t = point_terms(
-                m.normal,
-                masses,
-                mp.anchor_a,
-                mp.anchor_b,
-                sa,
-                sb,
-                mp.separation,
-            );
-            let (normal, tangent) = if warm_starting {
-                (mp.normal_impulse, mp.tangent_impulse)
-            } else {
-                (0.0, 0.0)
-            };
-            points[k] = [
-                mp.anchor_a.x,
-                mp.anchor_a.y,
-                mp.anchor_b.x,
-                mp.anchor_b.y,
-                t.base_separation,
-                normal,
-                tangent,
-                0.0,
-                t.normal_mass,
-                t.tangent_mass,
-                t.relative_velocity,
-            ];
-        }
         let flags = u8::from(x.body_a.dynamic)
             | (u8::from(x.body_b.dynamic) << 1)
             | (u8::from(c.friction > 0.0) << 2)
@@ -157,7 +125,41 @@ impl<'a> LaneWriter<'a> {
             put!((*w).bias_rate, f32, x.softness.bias_rate);
             put!((*w).mass_scale, f32, x.softness.mass_scale);
             put!((*w).impulse_scale, f32, x.softness.impulse_scale);
-            for (k, v) in points.iter().enumerate() {
+            for k in 0..2 {
+                // ax, ay, bx, by, base separation, normal, tangent and total impulse, normal
+                // and tangent mass, relative velocity; zeros for a point the manifold lacks.
+                let v = match m.points().get(k) {
+                    Some(mp) => {
+                        let t = point_terms(
+                            m.normal,
+                            masses,
+                            mp.anchor_a,
+                            mp.anchor_b,
+                            sa,
+                            sb,
+                            mp.separation,
+                        );
+                        let (normal, tangent) = if warm_starting {
+                            (mp.normal_impulse, mp.tangent_impulse)
+                        } else {
+                            (0.0, 0.0)
+                        };
+                        [
+                            mp.anchor_a.x,
+                            mp.anchor_a.y,
+                            mp.anchor_b.x,
+                            mp.anchor_b.y,
+                            t.base_separation,
+                            normal,
+                            tangent,
+                            0.0,
+                            t.normal_mass,
+                            t.tangent_mass,
+                            t.relative_velocity,
+                        ]
+                    }
+                    None => [0.0; 11],
+                };
                 let p = std::ptr::addr_of_mut!((*w).points[k]);
                 put!((*p).r.ax, f32, v[0]);
                 put!((*p).r.ay, f32, v[1]);
