@@ -99,6 +99,11 @@ impl<'a, T> SharedSlice<'a, T> {
         }
     }
 
+    /// The address of element `i`, not checked and not dereferenced: for cache hints.
+    pub fn as_ptr_at(&self, i: usize) -> *const T {
+        self.ptr.wrapping_add(i)
+    }
+
     /// A mutable view of `range`.
     ///
     /// # Safety
@@ -111,6 +116,30 @@ impl<'a, T> SharedSlice<'a, T> {
             std::slice::from_raw_parts_mut(self.ptr.add(range.start), range.end - range.start)
         }
     }
+}
+
+/// Asks the CPU to start loading `value` into the cache (a hint: no effect on results, and
+/// nothing where the target has no prefetch instruction).
+#[inline(always)]
+pub fn prefetch<T>(value: &T) {
+    prefetch_ptr(value as *const T);
+}
+
+/// [`prefetch`] by address: the object need not be readable now (another worker may be
+/// writing it); a prefetch never faults and reads nothing architecturally.
+#[inline(always)]
+pub fn prefetch_ptr<T>(ptr: *const T) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+        let start = ptr.cast::<i8>();
+        for offset in (0..std::mem::size_of::<T>()).step_by(64) {
+            // SAFETY: prefetching any address is sound: it is a hint that cannot fault.
+            unsafe { _mm_prefetch::<_MM_HINT_T0>(start.wrapping_add(offset)) };
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = ptr;
 }
 
 /// The share of `range` that worker `index` of `count` works on: contiguous, disjoint, and
