@@ -261,6 +261,8 @@ pub struct World {
     /// Proxies whose fat box changed since the last pair search.
     moved: Vec<u32>,
     moved_flags: Vec<bool>,
+    /// Scratch: each moved proxy's place in `moved` (the tree walk's creation order).
+    moved_rank: Vec<u32>,
     /// Set by finalize for a body whose state went non-finite (then counted and cleared).
     guarded: Vec<bool>,
     guarded_last_step: usize,
@@ -309,6 +311,7 @@ impl World {
             fat_aabbs: Vec::new(),
             moved: Vec::new(),
             moved_flags: Vec::new(),
+            moved_rank: Vec::new(),
             guarded: Vec::new(),
             guarded_last_step: 0,
             tree_dirty: true,
@@ -812,6 +815,51 @@ impl World {
         let sims = &self.sims;
         let moved_flags = &self.moved_flags;
         let pairs = &self.pairs;
+        if self.moved.len() * 2 > aabbs.len() {
+            // Most proxies moved (smash, an explosion, the first step): walk the tree against
+            // itself once instead of querying it per proxy. The same pairs as the queries
+            // would find, created in the same order (each by its finder's place in `moved`,
+            // then the other's id), so the results do not depend on which way was taken.
+            let mut rank = std::mem::take(&mut self.moved_rank);
+            rank.clear();
+            rank.resize(aabbs.len(), u32::MAX);
+            for (k, &i) in self.moved.iter().enumerate() {
+                rank[i as usize] = k as u32;
+            }
+            let keep = |p: u32, q: u32| {
+                let (mp, mq) = (moved_flags[p as usize], moved_flags[q as usize]);
+                if !(mp || mq) {
+                    return None;
+                }
+                if sims[p as usize].kind != BodyKind::Dynamic
+                    && sims[q as usize].kind != BodyKind::Dynamic
+                {
+                    return None;
+                }
+                if pairs.contains_key(&pair_key(p, q)) {
+                    return None;
+                }
+                // The finder is the moved one; of two moved, the larger id (as below).
+                let (finder, other) = if mp && mq {
+                    (p.max(q), p.min(q))
+                } else if mp {
+                    (p, q)
+                } else {
+                    (q, p)
+                };
+                Some((u64::from(rank[finder as usize]) << 32) | u64::from(other))
+            };
+            let mut found = bp.overlapping_pairs_parallel(aabbs, 6, &keep);
+            found.par_sort_unstable();
+            let moved = std::mem::take(&mut self.moved);
+            for key in found {
+                let (finder, other) = (moved[(key >> 32) as usize], key as u32);
+                self.create_contact(finder, other);
+            }
+            self.moved_rank = rank;
+            self.finish_moved(moved);
+            return;
+        }
         let found: Vec<Vec<u32>> = self
             .moved
             .par_iter()
@@ -840,12 +888,17 @@ impl World {
                 out
             })
             .collect();
-        let mut moved = std::mem::take(&mut self.moved);
+        let moved = std::mem::take(&mut self.moved);
         for (k, &i) in moved.iter().enumerate() {
             for &j in &found[k] {
                 self.create_contact(i, j);
             }
         }
+        self.finish_moved(moved);
+    }
+
+    /// Clears the moved proxies once their pairs are made, keeping the buffer.
+    fn finish_moved(&mut self, mut moved: Vec<u32>) {
         for &i in &moved {
             self.moved_flags[i as usize] = false;
         }

@@ -137,6 +137,156 @@ impl BroadPhase {
         }
     }
 
+    /// Calls `f(p, q)` once for every pair of distinct proxies whose fat boxes overlap, by
+    /// walking the tree against itself (each subtree's pairs, then the pairs between sibling
+    /// subtrees, pruned where their bounds part). When most proxies moved this is cheaper
+    /// than one query per proxy, which visits the same upper nodes again for every proxy.
+    pub fn overlapping_pairs(&self, aabbs: &[Aabb], mut f: impl FnMut(u32, u32)) {
+        if !self.nodes.is_empty() {
+            self.pairs_within(0, aabbs, &mut f);
+        }
+    }
+
+    /// [`overlapping_pairs`](Self::overlapping_pairs) on the current rayon pool: the top
+    /// `depth` levels of the walk are split into tasks, each keeping what `keep` returns for
+    /// its pairs; the order of the result is not defined (callers sort it).
+    pub fn overlapping_pairs_parallel<T: Send>(
+        &self,
+        aabbs: &[Aabb],
+        depth: u32,
+        keep: &(impl Fn(u32, u32) -> Option<T> + Sync),
+    ) -> Vec<T> {
+        if self.nodes.is_empty() {
+            return Vec::new();
+        }
+        self.par_within(0, depth, aabbs, keep)
+    }
+
+    fn par_within<T: Send>(
+        &self,
+        n: usize,
+        depth: u32,
+        aabbs: &[Aabb],
+        keep: &(impl Fn(u32, u32) -> Option<T> + Sync),
+    ) -> Vec<T> {
+        let node = self.nodes[n];
+        if depth == 0 || node.is_leaf() {
+            let mut out = Vec::new();
+            self.pairs_within(n, aabbs, &mut |p, q| out.extend(keep(p, q)));
+            return out;
+        }
+        let left = node.child_or_first as usize;
+        let ((mut a, b), c) = rayon::join(
+            || {
+                rayon::join(
+                    || self.par_within(left, depth - 1, aabbs, keep),
+                    || self.par_within(left + 1, depth - 1, aabbs, keep),
+                )
+            },
+            || self.par_between(left, left + 1, depth - 1, aabbs, keep),
+        );
+        a.extend(b);
+        a.extend(c);
+        a
+    }
+
+    fn par_between<T: Send>(
+        &self,
+        a: usize,
+        b: usize,
+        depth: u32,
+        aabbs: &[Aabb],
+        keep: &(impl Fn(u32, u32) -> Option<T> + Sync),
+    ) -> Vec<T> {
+        let (na, nb) = (self.nodes[a], self.nodes[b]);
+        if depth == 0 || na.is_leaf() || nb.is_leaf() || !na.aabb.overlaps(&nb.aabb) {
+            let mut out = Vec::new();
+            self.pairs_between(a, b, aabbs, &mut |p, q| out.extend(keep(p, q)));
+            return out;
+        }
+        let (x, y) = if na.aabb.perimeter() >= nb.aabb.perimeter() {
+            let c = na.child_or_first as usize;
+            rayon::join(
+                || self.par_between(c, b, depth - 1, aabbs, keep),
+                || self.par_between(c + 1, b, depth - 1, aabbs, keep),
+            )
+        } else {
+            let c = nb.child_or_first as usize;
+            rayon::join(
+                || self.par_between(a, c, depth - 1, aabbs, keep),
+                || self.par_between(a, c + 1, depth - 1, aabbs, keep),
+            )
+        };
+        let mut x = x;
+        x.extend(y);
+        x
+    }
+
+    fn leaf_items(&self, node: &Node) -> &[u32] {
+        let first = node.child_or_first as usize;
+        &self.items[first..first + node.count as usize]
+    }
+
+    fn pairs_within(&self, n: usize, aabbs: &[Aabb], f: &mut impl FnMut(u32, u32)) {
+        let node = self.nodes[n];
+        if node.is_leaf() {
+            let items = self.leaf_items(&node);
+            for (k, &p) in items.iter().enumerate() {
+                for &q in &items[k + 1..] {
+                    if aabbs[p as usize].overlaps(&aabbs[q as usize]) {
+                        f(p, q);
+                    }
+                }
+            }
+            return;
+        }
+        let left = node.child_or_first as usize;
+        self.pairs_within(left, aabbs, f);
+        self.pairs_within(left + 1, aabbs, f);
+        self.pairs_between(left, left + 1, aabbs, f);
+    }
+
+    fn pairs_between(&self, a: usize, b: usize, aabbs: &[Aabb], f: &mut impl FnMut(u32, u32)) {
+        let (na, nb) = (self.nodes[a], self.nodes[b]);
+        if !na.aabb.overlaps(&nb.aabb) {
+            return;
+        }
+        match (na.is_leaf(), nb.is_leaf()) {
+            (true, true) => {
+                for &p in self.leaf_items(&na) {
+                    let bp = &aabbs[p as usize];
+                    for &q in self.leaf_items(&nb) {
+                        if bp.overlaps(&aabbs[q as usize]) {
+                            f(p, q);
+                        }
+                    }
+                }
+            }
+            // Descend the inner node; of two inner nodes, the one with the larger box.
+            (true, false) => {
+                let c = nb.child_or_first as usize;
+                self.pairs_between(a, c, aabbs, f);
+                self.pairs_between(a, c + 1, aabbs, f);
+            }
+            (false, true) => {
+                let c = na.child_or_first as usize;
+                self.pairs_between(c, b, aabbs, f);
+                self.pairs_between(c + 1, b, aabbs, f);
+            }
+            (false, false) => {
+                if na.aabb.perimeter() >= nb.aabb.perimeter() {
+                    let c = na.child_or_first as usize;
+                    self.pairs_between(c, b, aabbs, f);
+                    self.pairs_between(c + 1, b, aabbs, f);
+                } else {
+                    let c = nb.child_or_first as usize;
+                    self.pairs_between(a, c, aabbs, f);
+                    self.pairs_between(a, c + 1, aabbs, f);
+                }
+            }
+        }
+    }
+
     /// Calls `f` with every proxy whose fat box overlaps `aabb`, in tree order.
     pub fn query(&self, aabb: &Aabb, aabbs: &[Aabb], mut f: impl FnMut(u32)) {
         if self.nodes.is_empty() {
@@ -203,6 +353,33 @@ mod tests {
             let brute: Vec<usize> = (0..aabbs.len()).filter(|&j| aabbs[j].overlaps(q)).collect();
             assert_eq!(found, brute, "proxy {i}");
         }
+    }
+
+    #[test]
+    fn overlapping_pairs_are_exactly_the_brute_force_pairs_each_once() {
+        let aabbs = boxes(700);
+        let mut bp = BroadPhase::default();
+        bp.rebuild(&aabbs);
+        let mut found = Vec::new();
+        bp.overlapping_pairs(&aabbs, |p, q| found.push((p.min(q), p.max(q))));
+        let count = found.len();
+        found.sort();
+        found.dedup();
+        assert_eq!(found.len(), count, "a pair reported twice");
+        let mut brute = Vec::new();
+        for p in 0..aabbs.len() {
+            for q in p + 1..aabbs.len() {
+                if aabbs[p].overlaps(&aabbs[q]) {
+                    brute.push((p as u32, q as u32));
+                }
+            }
+        }
+        assert!(brute.len() > 100, "the scatter overlaps enough to test");
+        assert_eq!(found, brute);
+        let mut parallel =
+            bp.overlapping_pairs_parallel(&aabbs, 4, &|p, q| Some((p.min(q), p.max(q))));
+        parallel.sort();
+        assert_eq!(parallel, brute);
     }
 
     #[test]
