@@ -101,7 +101,15 @@ pub fn run(args: &RunArgs) -> Result<()> {
             ..Limits::default()
         },
     };
-    let mut scene = tumble_scene::load(&args.scene, &limits)?;
+    // `pile_N` (the sweep's generated family) as every other bench command takes it, unless a
+    // file of that name exists.
+    let generated = args.scene.starts_with(crate::scenes::PILE_PREFIX)
+        && !std::path::Path::new(&args.scene).exists();
+    let mut scene = if generated {
+        crate::scenes::resolve(&args.scene)?
+    } else {
+        tumble_scene::load(&args.scene, &limits)?
+    };
     if let Some(substeps) = args.substeps {
         if substeps > limits.scene.max_substeps {
             bail!(

@@ -267,7 +267,6 @@ pub struct World {
     guarded: Vec<bool>,
     guarded_last_step: usize,
     tree_dirty: bool,
-    moved_since_rebuild: usize,
     broad_phase: BroadPhase,
     contacts: Vec<Contact>,
     pairs: FxHashMap<u64, u32>,
@@ -315,7 +314,6 @@ impl World {
             guarded: Vec::new(),
             guarded_last_step: 0,
             tree_dirty: true,
-            moved_since_rebuild: 0,
             broad_phase: BroadPhase::default(),
             contacts: Vec::new(),
             pairs: FxHashMap::default(),
@@ -799,14 +797,19 @@ impl World {
             return;
         }
         if self.tree_dirty {
-            // A full rebuild when proxies were added or a quarter of them moved since the
-            // last one (the refitted tree has grown loose); otherwise a cheap refit.
+            // A cheap refit, and a full rebuild (serial, O(n log n): 3.4 ms of a 20,000-body
+            // pile's 16 ms step when it ran every step) only when proxies were added or the
+            // refitted tree has grown a quarter costlier than a fresh one: bodies that move
+            // together (a falling pile, a drifting cloud) keep a refitted tree good. The tree's
+            // shape never changes which pairs are found, nor their order (both are sorted).
             let n = self.fat_aabbs.len();
-            if self.broad_phase.proxy_count() != n || self.moved_since_rebuild * 4 > n {
+            if self.broad_phase.proxy_count() != n {
                 self.broad_phase.rebuild(&self.fat_aabbs);
-                self.moved_since_rebuild = 0;
             } else {
                 self.broad_phase.refit(&self.fat_aabbs);
+                if self.broad_phase.looseness() > 1.25 {
+                    self.broad_phase.rebuild(&self.fat_aabbs);
+                }
             }
             self.tree_dirty = false;
         }
@@ -1130,7 +1133,6 @@ impl World {
                 self.tree_dirty = true;
             }
         }
-        self.moved_since_rebuild += self.moved.len();
         let mut guarded = 0;
         for g in &mut self.guarded {
             guarded += usize::from(std::mem::take(g));

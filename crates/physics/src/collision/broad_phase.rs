@@ -37,6 +37,8 @@ pub struct BroadPhase {
     items: Vec<u32>,
     /// Scratch for the build: centres of the boxes being split.
     centers: Vec<[f32; 2]>,
+    /// [`cost`](Self::cost) right after the last rebuild.
+    built_cost: f32,
 }
 
 impl BroadPhase {
@@ -65,6 +67,26 @@ impl BroadPhase {
         });
         let n = aabbs.len();
         self.build(0, 0, n, aabbs);
+        self.built_cost = self.cost();
+    }
+
+    /// The summed perimeter of the inner nodes: what a query pays to descend, in the surface
+    /// area heuristic's terms. A refitted tree whose bodies rearranged grows costlier.
+    pub fn cost(&self) -> f32 {
+        self.nodes
+            .iter()
+            .filter(|n| !n.is_leaf())
+            .map(|n| n.aabb.perimeter())
+            .sum()
+    }
+
+    /// How much costlier the tree is than right after its last rebuild (1 = as good).
+    pub fn looseness(&self) -> f32 {
+        if self.built_cost > 0.0 {
+            self.cost() / self.built_cost
+        } else {
+            1.0
+        }
     }
 
     fn build(&mut self, node: usize, first: usize, end: usize, aabbs: &[Aabb]) {
@@ -403,6 +425,31 @@ mod tests {
             let brute: Vec<usize> = (0..aabbs.len()).filter(|&j| aabbs[j].overlaps(q)).collect();
             assert_eq!(found, brute);
         }
+    }
+
+    #[test]
+    fn a_refit_after_the_boxes_rearranged_is_looser_and_a_rebuild_restores_it() {
+        let mut aabbs = boxes(400);
+        let mut bp = BroadPhase::default();
+        bp.rebuild(&aabbs);
+        assert_eq!(bp.looseness(), 1.0);
+        // Moving every box by the same offset keeps the tree as good as new...
+        let shift = Vec2::new(3.0, -2.0);
+        let shifted: Vec<Aabb> = aabbs
+            .iter()
+            .map(|b| Aabb {
+                min: b.min + shift,
+                max: b.max + shift,
+            })
+            .collect();
+        bp.refit(&shifted);
+        assert!((bp.looseness() - 1.0).abs() < 1e-3, "{}", bp.looseness());
+        // ...while scrambling which box is where makes every node span the whole field.
+        aabbs.reverse();
+        bp.refit(&aabbs);
+        assert!(bp.looseness() > 2.0, "{}", bp.looseness());
+        bp.rebuild(&aabbs);
+        assert_eq!(bp.looseness(), 1.0);
     }
 
     #[test]
