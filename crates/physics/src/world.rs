@@ -815,7 +815,9 @@ impl World {
         }
         let bp = &self.broad_phase;
         let aabbs = &self.fat_aabbs;
-        let sims = &self.sims;
+        // Whether each body is dynamic, from the 12-byte solver records rather than the
+        // body sims (a cache line each, read at random for every overlapping pair).
+        let dynamic = &self.solver_bodies;
         let moved_flags = &self.moved_flags;
         let pairs = &self.pairs;
         if self.moved.len() * 2 > aabbs.len() {
@@ -834,9 +836,7 @@ impl World {
                 if !(mp || mq) {
                     return None;
                 }
-                if sims[p as usize].kind != BodyKind::Dynamic
-                    && sims[q as usize].kind != BodyKind::Dynamic
-                {
+                if !(dynamic[p as usize].dynamic || dynamic[q as usize].dynamic) {
                     return None;
                 }
                 if pairs.contains_key(&pair_key(p, q)) {
@@ -869,7 +869,7 @@ impl World {
             .with_min_len(64)
             .map(|&i| {
                 let mut out = Vec::new();
-                let kind_i = sims[i as usize].kind;
+                let dynamic_i = dynamic[i as usize].dynamic;
                 bp.query(&aabbs[i as usize], aabbs, |j| {
                     if j == i {
                         return;
@@ -879,7 +879,7 @@ impl World {
                         return;
                     }
                     // Only pairs with a dynamic body can ever push anything.
-                    if kind_i != BodyKind::Dynamic && sims[j as usize].kind != BodyKind::Dynamic {
+                    if !(dynamic_i || dynamic[j as usize].dynamic) {
                         return;
                     }
                     if pairs.contains_key(&pair_key(i, j)) {
