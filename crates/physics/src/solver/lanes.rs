@@ -119,8 +119,9 @@ mod avx {
     #[repr(transparent)]
     pub struct Avx(__m256);
 
+    /// One binary operator as one AVX intrinsic.
     macro_rules! binary {
-        ($trait:ident, $method:ident, $assign:ident, $assign_method:ident, $intrinsic:ident) => {
+        ($trait:ident, $method:ident, $intrinsic:ident) => {
             impl $trait for Avx {
                 type Output = Avx;
                 #[inline(always)]
@@ -128,6 +129,11 @@ mod avx {
                     Avx(unsafe { $intrinsic(self.0, rhs.0) })
                 }
             }
+        };
+    }
+    /// `x op= y` as `x = x op y`.
+    macro_rules! assign {
+        ($assign:ident, $assign_method:ident, $trait:ident, $method:ident) => {
             impl $assign for Avx {
                 #[inline(always)]
                 fn $assign_method(&mut self, rhs: Avx) {
@@ -136,32 +142,13 @@ mod avx {
             }
         };
     }
-    binary!(Add, add, AddAssign, add_assign, _mm256_add_ps);
-    binary!(Sub, sub, SubAssign, sub_assign, _mm256_sub_ps);
-
-    impl Mul for Avx {
-        type Output = Avx;
-        #[inline(always)]
-        fn mul(self, rhs: Avx) -> Avx {
-            Avx(unsafe { _mm256_mul_ps(self.0, rhs.0) })
-        }
-    }
-
-    impl Div for Avx {
-        type Output = Avx;
-        #[inline(always)]
-        fn div(self, rhs: Avx) -> Avx {
-            Avx(unsafe { _mm256_div_ps(self.0, rhs.0) })
-        }
-    }
-
-    impl BitAnd for Avx {
-        type Output = Avx;
-        #[inline(always)]
-        fn bitand(self, rhs: Avx) -> Avx {
-            Avx(unsafe { _mm256_and_ps(self.0, rhs.0) })
-        }
-    }
+    binary!(Add, add, _mm256_add_ps);
+    binary!(Sub, sub, _mm256_sub_ps);
+    binary!(Mul, mul, _mm256_mul_ps);
+    binary!(Div, div, _mm256_div_ps);
+    binary!(BitAnd, bitand, _mm256_and_ps);
+    assign!(AddAssign, add_assign, Add, add);
+    assign!(SubAssign, sub_assign, Sub, sub);
 
     impl Neg for Avx {
         type Output = Avx;

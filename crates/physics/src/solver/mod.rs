@@ -31,7 +31,7 @@ use wide::{LANES, LaneIndex, LaneInput, LaneWriter, WideConstraint};
 const NO_LANE: LaneIndex = u32::MAX;
 
 /// What prepare needs to know of a body.
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct SolverBody {
     /// Inverse mass (0 for static and kinematic bodies).
     pub inv_mass: f32,
@@ -117,6 +117,18 @@ pub struct SolverParams {
     pub static_softness: Softness,
     /// Whether last step's impulses seed this step.
     pub warm_starting: bool,
+}
+
+impl SolverParams {
+    /// The spring of a contact between these bodies: the stiffer one unless both are dynamic.
+    #[inline]
+    pub fn softness(&self, a: &SolverBody, b: &SolverBody) -> Softness {
+        if a.dynamic && b.dynamic {
+            self.contact_softness
+        } else {
+            self.static_softness
+        }
+    }
 }
 
 impl Solver {
@@ -243,17 +255,11 @@ impl Solver {
                     }
                     let contact = touching[k].contact;
                     let input = contacts[contact as usize].input();
-                    let [body_a, body_b] = input.masses;
-                    let softness = if body_a.dynamic && body_b.dynamic {
-                        params.contact_softness
-                    } else {
-                        params.static_softness
-                    };
+                    let [a, b] = &input.masses;
+                    let softness = params.softness(a, b);
                     let lane = LaneInput {
                         contact,
                         input,
-                        body_a,
-                        body_b,
                         softness,
                     };
                     writer.write(at, &lane, states, params.warm_starting);
@@ -463,11 +469,7 @@ fn build_constraint(
         normal: m.normal,
         friction: c.friction,
         restitution: c.restitution,
-        softness: if ba.dynamic && bb.dynamic {
-            params.contact_softness
-        } else {
-            params.static_softness
-        },
+        softness: params.softness(&ba, &bb),
         count: m.count,
         points: [ConstraintPoint::default(); 2],
     };

@@ -11,12 +11,12 @@ use std::marker::PhantomData;
 use glam::Vec2;
 use wide::{f32x4, f32x8};
 
+use super::ContactInput;
 use super::PointResult;
 use super::contact_solver::{BodyState, Softness, point_terms};
 #[cfg(target_arch = "x86_64")]
 use super::lanes::Avx;
 use super::lanes::Lanes;
-use super::{ContactInput, SolverBody};
 use crate::parallel::BodyStates;
 
 /// Lanes per wide constraint.
@@ -26,12 +26,8 @@ pub const LANES: usize = 8;
 pub struct LaneInput<'c> {
     /// Index of the contact (to store impulses back).
     pub contact: u32,
-    /// The contact's data.
+    /// The contact's data (with both bodies' masses).
     pub input: ContactInput<'c>,
-    /// Body A's masses.
-    pub body_a: SolverBody,
-    /// Body B's masses.
-    pub body_b: SolverBody,
     /// The contact's spring (stiffer against static bodies).
     pub softness: Softness,
 }
@@ -85,15 +81,16 @@ impl<'a> LaneWriter<'a> {
         assert!(wide < self.len);
         let c = &x.input;
         let m = c.manifold;
+        let [body_a, body_b] = &c.masses;
         let masses = [
-            x.body_a.inv_mass,
-            x.body_a.inv_inertia,
-            x.body_b.inv_mass,
-            x.body_b.inv_inertia,
+            body_a.inv_mass,
+            body_a.inv_inertia,
+            body_b.inv_mass,
+            body_b.inv_inertia,
         ];
         let (sa, sb) = (&states[c.body_a as usize], &states[c.body_b as usize]);
-        let flags = u8::from(x.body_a.dynamic)
-            | (u8::from(x.body_b.dynamic) << 1)
+        let flags = u8::from(body_a.dynamic)
+            | (u8::from(body_b.dynamic) << 1)
             | (u8::from(c.friction > 0.0) << 2)
             | (u8::from(c.restitution > 0.0) << 3);
         // SAFETY: `wide` is in bounds (asserted) and `l < LANES`; each write goes through a
