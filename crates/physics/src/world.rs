@@ -820,6 +820,12 @@ impl World {
         let dynamic = &self.solver_bodies;
         let moved_flags = &self.moved_flags;
         let pairs = &self.pairs;
+        // A new contact only for a pair with a dynamic body (no other can ever push
+        // anything) that has none yet.
+        let wants_contact = |p: u32, q: u32| {
+            (dynamic[p as usize].dynamic || dynamic[q as usize].dynamic)
+                && !pairs.contains_key(&pair_key(p, q))
+        };
         if self.moved.len() * 2 > aabbs.len() {
             // Most proxies moved (smash, an explosion, the first step): walk the tree against
             // itself once instead of querying it per proxy. The same pairs as the queries
@@ -833,13 +839,7 @@ impl World {
             }
             let keep = |p: u32, q: u32| {
                 let (mp, mq) = (moved_flags[p as usize], moved_flags[q as usize]);
-                if !(mp || mq) {
-                    return None;
-                }
-                if !(dynamic[p as usize].dynamic || dynamic[q as usize].dynamic) {
-                    return None;
-                }
-                if pairs.contains_key(&pair_key(p, q)) {
+                if !(mp || mq) || !wants_contact(p, q) {
                     return None;
                 }
                 // The finder is the moved one; of two moved, the larger id (as below).
@@ -869,23 +869,11 @@ impl World {
             .with_min_len(64)
             .map(|&i| {
                 let mut out = Vec::new();
-                let dynamic_i = dynamic[i as usize].dynamic;
                 bp.query(&aabbs[i as usize], aabbs, |j| {
-                    if j == i {
-                        return;
-                    }
                     // A pair of moved proxies is found from the larger id only.
-                    if moved_flags[j as usize] && j > i {
-                        return;
+                    if j != i && !(moved_flags[j as usize] && j > i) && wants_contact(i, j) {
+                        out.push(j);
                     }
-                    // Only pairs with a dynamic body can ever push anything.
-                    if !(dynamic_i || dynamic[j as usize].dynamic) {
-                        return;
-                    }
-                    if pairs.contains_key(&pair_key(i, j)) {
-                        return;
-                    }
-                    out.push(j);
                 });
                 out.sort_unstable();
                 out

@@ -41,6 +41,13 @@ pub struct BroadPhase {
     built_cost: f32,
 }
 
+/// Of two inner nodes walked against each other, whether to split the first: the one with
+/// the larger box, so the pair of boxes shrinks fastest.
+#[inline]
+fn descend_first(a: &Node, b: &Node) -> bool {
+    a.aabb.perimeter() >= b.aabb.perimeter()
+}
+
 impl BroadPhase {
     /// The nodes, root first (empty when there are no proxies); for debug drawing.
     pub fn nodes(&self) -> &[Node] {
@@ -226,7 +233,7 @@ impl BroadPhase {
             self.pairs_between(a, b, aabbs, &mut |p, q| out.extend(keep(p, q)));
             return out;
         }
-        let (x, y) = if na.aabb.perimeter() >= nb.aabb.perimeter() {
+        let (x, y) = if descend_first(&na, &nb) {
             let c = na.child_or_first as usize;
             rayon::join(
                 || self.par_between(c, b, depth - 1, aabbs, keep),
@@ -296,7 +303,7 @@ impl BroadPhase {
                 self.pairs_between(c + 1, b, aabbs, f);
             }
             (false, false) => {
-                if na.aabb.perimeter() >= nb.aabb.perimeter() {
+                if descend_first(&na, &nb) {
                     let c = na.child_or_first as usize;
                     self.pairs_between(c, b, aabbs, f);
                     self.pairs_between(c + 1, b, aabbs, f);
