@@ -1280,40 +1280,68 @@ mod tests {
         assert_eq!(run(false), run(true));
     }
 
+    /// An 8-row pyramid of boxes with 20 bouncy circles falling on it.
+    fn pyramid_in_rain(settings: StepSettings) -> World {
+        let mut w = World::new(settings);
+        w.add_body(
+            &BodyDef::new(ShapeDef::Box {
+                half_extents: [20.0, 0.5],
+            })
+            .kind(BodyKind::Static),
+        )
+        .unwrap();
+        for row in 0..8 {
+            for col in 0..(8 - row) {
+                let x = col as f32 * 1.0 + row as f32 * 0.5 - 4.0;
+                w.add_body(
+                    &BodyDef::new(ShapeDef::Box {
+                        half_extents: [0.5, 0.5],
+                    })
+                    .at(x, 1.0 + row as f32),
+                )
+                .unwrap();
+            }
+        }
+        for i in 0..20 {
+            let shape = ShapeDef::Circle { radius: 0.25 };
+            let body = BodyDef::new(shape)
+                .at(i as f32 * 0.4 - 4.0, 12.0)
+                .restitution(0.3);
+            w.add_body(&body).unwrap();
+        }
+        w
+    }
+
+    #[test]
+    fn a_kept_colouring_is_the_one_a_fresh_colouring_gives() {
+        // One world keeps last step's colouring whenever the touching pairs repeat; the other
+        // colours from scratch every step. The colouring is a function of those pairs, so
+        // both must agree exactly, colour for colour and bit for bit.
+        let mut kept = pyramid_in_rain(StepSettings::default());
+        let mut fresh = pyramid_in_rain(StepSettings::default());
+        let mut reused = 0;
+        for _ in 0..240 {
+            fresh.solver.forget_coloring();
+            kept.step(1.0 / 60.0, 4);
+            fresh.step(1.0 / 60.0, 4);
+            assert!(fresh.solver.recolored);
+            reused += usize::from(!kept.solver.recolored);
+            assert_eq!(kept.contact_colors(), fresh.contact_colors());
+            assert_eq!(kept.state_hash(), fresh.state_hash());
+        }
+        // The rain bounces, rolls off and settles: most of the run has touching pairs that
+        // repeat, so the kept path was taken (its count is the test's reason to exist).
+        assert!(reused > 60, "colouring kept on {reused} of 240 steps");
+    }
+
     #[test]
     fn simd_and_scalar_solvers_agree_bit_for_bit() {
         // Both paths do the same per-lane operations in the same order, with no fused
         // multiply-add, so the whole state must match exactly, not within a tolerance.
         let run = |simd: bool, avx: bool| {
-            let mut w = World::new(StepSettings::default());
+            let mut w = pyramid_in_rain(StepSettings::default());
             w.settings_mut().simd = simd;
             w.solver.use_avx = avx;
-            w.add_body(
-                &BodyDef::new(ShapeDef::Box {
-                    half_extents: [20.0, 0.5],
-                })
-                .kind(BodyKind::Static),
-            )
-            .unwrap();
-            for row in 0..8 {
-                for col in 0..(8 - row) {
-                    let x = col as f32 * 1.0 + row as f32 * 0.5 - 4.0;
-                    w.add_body(
-                        &BodyDef::new(ShapeDef::Box {
-                            half_extents: [0.5, 0.5],
-                        })
-                        .at(x, 1.0 + row as f32),
-                    )
-                    .unwrap();
-                }
-            }
-            for i in 0..20 {
-                let shape = ShapeDef::Circle { radius: 0.25 };
-                let body = BodyDef::new(shape)
-                    .at(i as f32 * 0.4 - 4.0, 12.0)
-                    .restitution(0.3);
-                w.add_body(&body).unwrap();
-            }
             for _ in 0..120 {
                 w.step(1.0 / 60.0, 4);
             }

@@ -1,8 +1,9 @@
 //! Constraint graph colouring: no two constraints of one colour share a dynamic body, so
 //! each colour can be solved in parallel without locks (Box2D v3 `constraint_graph.c`).
 //!
-//! We colour from scratch every step, greedily, in contact order. The contact order is
-//! deterministic, so the colouring is too, and it never depends on history.
+//! We colour greedily, in contact order, from the sequence of touching pairs alone: the
+//! contact order is deterministic, so the colouring is too, and it never depends on history
+//! (the solver keeps last step's colouring only when that sequence repeats exactly).
 
 /// Colours available; the last acts as Box2D's overflow index and is never assigned.
 pub const COLOR_COUNT: usize = 24;
