@@ -164,8 +164,6 @@ struct Contact {
     friction: f32,
     restitution: f32,
     manifold: Manifold,
-    /// Set by the narrow phase when the fat boxes no longer overlap.
-    remove: bool,
     /// Poses when the manifold was last computed, for contact recycling.
     cache: Option<ContactCache>,
     /// The bodies' masses (copied at creation; see `ContactInput::masses`). Not stored in
@@ -173,6 +171,30 @@ struct Contact {
     /// dynamic body look static to the colouring.
     #[serde(skip)]
     masses: [SolverBody; 2],
+}
+
+/// What the passes that walk every contact in order need of it, kept apart in a compact
+/// array in the same order: a contact spans four cache lines, and reading one field of each
+/// of 15,000 to find the touching ones and the parted ones cost 0.5 ms a step.
+#[derive(Clone, Copy, Debug)]
+struct ContactKey {
+    /// Its bodies as the colouring sees them: each `NOT_DYNAMIC` unless dynamic.
+    dynamic: [u32; 2],
+    /// This step's manifold has points (written by the narrow phase).
+    touching: bool,
+    /// The fat boxes no longer overlap: removed at the end of the narrow phase.
+    remove: bool,
+}
+
+impl ContactKey {
+    fn of(c: &Contact) -> ContactKey {
+        let side = |i: u32, m: &SolverBody| if m.dynamic { i } else { NOT_DYNAMIC };
+        ContactKey {
+            dynamic: [side(c.body_a, &c.masses[0]), side(c.body_b, &c.masses[1])],
+            touching: c.manifold.count > 0,
+            remove: false,
+        }
+    }
 }
 
 impl SolverContact for Contact {
@@ -269,6 +291,8 @@ pub struct World {
     tree_dirty: bool,
     broad_phase: BroadPhase,
     contacts: Vec<Contact>,
+    /// One per contact, in the same order.
+    contact_keys: Vec<ContactKey>,
     pairs: FxHashMap<u64, u32>,
     solver: Solver,
     /// Indices of this step's touching contacts, in contact order (reused).
@@ -316,6 +340,7 @@ impl World {
             tree_dirty: true,
             broad_phase: BroadPhase::default(),
             contacts: Vec::new(),
+            contact_keys: Vec::new(),
             pairs: FxHashMap::default(),
             solver: Solver::new(),
             touching: Vec::new(),
@@ -634,6 +659,7 @@ impl World {
                 world.solver_bodies[c.body_b as usize],
             ];
         }
+        world.contact_keys = world.contacts.iter().map(ContactKey::of).collect();
         world.steps = snapshot.steps;
         world.speed_caps = snapshot.speed_caps;
         world.tree_dirty = true;
@@ -914,7 +940,6 @@ impl World {
             friction: (sa.friction * sb.friction).sqrt(),
             restitution: sa.restitution.max(sb.restitution),
             manifold: Manifold::default(),
-            remove: false,
             cache: None,
             masses: [
                 self.solver_bodies[a as usize],
@@ -923,6 +948,7 @@ impl World {
         };
         self.pairs
             .insert(pair_key(a, b), self.contacts.len() as u32);
+        self.contact_keys.push(ContactKey::of(&contact));
         self.contacts.push(contact);
     }
 
@@ -938,15 +964,17 @@ impl World {
         let recycled: usize = self
             .contacts
             .par_iter_mut()
+            .zip(self.contact_keys.par_iter_mut())
             .with_min_len(64)
-            .map(|c| {
+            .map(|(c, key)| {
                 let (a, b) = (c.body_a as usize, c.body_b as usize);
                 if !aabbs[a].overlaps(&aabbs[b]) {
-                    c.remove = true;
+                    key.remove = true;
                     return 0;
                 }
                 let (xa, xb) = (sims[a].xf, sims[b].xf);
                 if recycling && recycle(c, &sims[a], &sims[b]) {
+                    key.touching = c.manifold.count > 0;
                     return 1;
                 }
                 c.cache = Some(ContactCache {
@@ -972,12 +1000,14 @@ impl World {
                     }
                 }
                 c.manifold = m;
+                key.touching = m.count > 0;
                 0
             })
             .sum();
         self.profile_recycled = recycled;
         for k in (0..self.contacts.len()).rev() {
-            if self.contacts[k].remove {
+            if self.contact_keys[k].remove {
+                self.contact_keys.swap_remove(k);
                 let c = self.contacts.swap_remove(k);
                 self.pairs.remove(&pair_key(c.body_a, c.body_b));
                 if k < self.contacts.len() {
@@ -1006,17 +1036,14 @@ impl World {
         // with what the serial colouring needs, so that it never reads the contacts.
         self.touching.clear();
         self.touching.par_extend(
-            self.contacts
+            self.contact_keys
                 .par_iter()
                 .enumerate()
-                .with_min_len(1024)
-                .filter(|(_, c)| c.manifold.count > 0)
-                .map(|(k, c)| {
-                    let side = |i: u32, m: &SolverBody| if m.dynamic { i } else { NOT_DYNAMIC };
-                    Touching {
-                        contact: k as u32,
-                        dynamic: [side(c.body_a, &c.masses[0]), side(c.body_b, &c.masses[1])],
-                    }
+                .with_min_len(4096)
+                .filter(|(_, key)| key.touching)
+                .map(|(k, key)| Touching {
+                    contact: k as u32,
+                    dynamic: key.dynamic,
                 }),
         );
         profile.touching = self.touching.len();
