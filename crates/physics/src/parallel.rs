@@ -1,5 +1,5 @@
 //! The one module with unsafe code: shared access to flat arrays from the step's workers, and
-//! the spin barrier that separates the solver's stages.
+//! the stage board that runs the solver's stages on them.
 //!
 //! Why unsafe: inside one graph colour, constraints touch disjoint dynamic bodies (that is what
 //! the colouring guarantees) and only read static and kinematic ones, so workers may update
@@ -151,65 +151,200 @@ pub fn worker_range(range: &Range<usize>, index: usize, count: usize) -> Range<u
     start..end
 }
 
-/// A sense-reversing spin barrier: the solver's stages are microseconds long, far shorter
-/// than putting a thread to sleep and waking it (Box2D v3 spins the same way).
-pub struct SpinBarrier {
-    arrived: AtomicUsize,
-    generation: AtomicUsize,
-    parties: usize,
+/// Waiting for a condition another worker makes true: spinning, since the solver's stages are
+/// microseconds long, far shorter than putting a thread to sleep and waking it (Box2D v3
+/// spins the same way); yielding once the wait grows; and in a Web Worker, where
+/// `yield_now` does nothing and a waiter would burn its whole time slice while the worker
+/// it waits for is descheduled, blocking (measured in chromium at 2 threads on a busy
+/// machine: 40.9 -> 3.5 ms per step).
+#[derive(Default)]
+struct Parking {
     sleepers: AtomicUsize,
     lock: std::sync::Mutex<()>,
     wake: std::sync::Condvar,
 }
 
-impl SpinBarrier {
-    /// A barrier for `parties` workers.
-    pub fn new(parties: usize) -> Self {
-        Self {
-            arrived: AtomicUsize::new(0),
-            generation: AtomicUsize::new(0),
-            parties,
-            sleepers: AtomicUsize::new(0),
-            lock: std::sync::Mutex::new(()),
-            wake: std::sync::Condvar::new(),
+impl Parking {
+    /// Returns once `ready()` is true. Whatever makes it true calls [`Parking::notify`] after.
+    fn wait(&self, mut ready: impl FnMut() -> bool) {
+        let mut spins = 0u32;
+        while !ready() {
+            std::hint::spin_loop();
+            spins += 1;
+            // On an oversubscribed machine let the worker we wait for run.
+            if spins > 64 {
+                std::thread::yield_now();
+            }
+            if cfg!(target_arch = "wasm32") && spins > 4096 {
+                let mut guard = self.lock.lock().unwrap_or_else(|e| e.into_inner());
+                self.sleepers.fetch_add(1, Ordering::SeqCst);
+                while !ready() {
+                    // The timeout is a backstop only: `notify` wakes us.
+                    let timeout = std::time::Duration::from_millis(1);
+                    guard = match self.wake.wait_timeout(guard, timeout) {
+                        Ok((g, _)) => g,
+                        Err(e) => e.into_inner().0,
+                    };
+                }
+                self.sleepers.fetch_sub(1, Ordering::SeqCst);
+                return;
+            }
         }
     }
 
-    /// Waits until every worker has arrived.
-    pub fn wait(&self) {
-        if self.parties <= 1 {
+    /// Wakes blocked waiters, if any; called after a `SeqCst` write that may make them ready.
+    fn notify(&self) {
+        if self.sleepers.load(Ordering::SeqCst) > 0 {
+            let _guard = self.lock.lock();
+            self.wake.notify_all();
+        }
+    }
+}
+
+/// The solver's stages run as Box2D v3 runs them (`b2ExecuteMainStage`, `b2ExecuteStage`):
+/// the first worker to join leads; it walks the stages in order and publishes each, the others
+/// follow what it publishes. Each stage is cut into blocks, and every worker has a share of
+/// them: it claims the blocks of its own share first, then the blocks left in the others'
+/// shares. A stage ends when all its blocks are done, not when every worker has passed a
+/// barrier, so a worker the OS has descheduled holds the others up only for a block it has
+/// claimed (with a barrier per stage, for its whole time slice), and a worker that is slow
+/// in one stage has its last blocks taken by one that is not.
+///
+/// What a block does is the caller's; blocks of one stage must be independent of each other,
+/// and each stage may read what every block of the stages before it wrote.
+pub struct StageBoard {
+    workers: usize,
+    /// Index + 1 of the stage published last; 0 before the first, `FINISHED` after the last.
+    current: AtomicUsize,
+    /// Per stage and share (`stage * workers + share`): the next block to claim in the share.
+    next: Vec<AtomicUsize>,
+    /// Per stage: blocks done.
+    done: Vec<AtomicUsize>,
+    /// Per stage: blocks.
+    blocks: Vec<usize>,
+    joined: AtomicUsize,
+    /// A block panicked: the others stop waiting and the leader panics too (otherwise it
+    /// would wait forever for a block that never completes).
+    poisoned: std::sync::atomic::AtomicBool,
+    parking: Parking,
+}
+
+/// Sets the board's `poisoned` flag if dropped while unwinding from a block.
+struct PoisonOnPanic<'a>(&'a StageBoard);
+
+impl Drop for PoisonOnPanic<'_> {
+    fn drop(&mut self) {
+        if std::thread::panicking() {
+            self.0.poisoned.store(true, Ordering::SeqCst);
+            self.0.parking.notify();
+        }
+    }
+}
+
+const FINISHED: usize = usize::MAX;
+
+impl StageBoard {
+    /// A board for stages of `blocks[s]` blocks each, run by up to `workers` workers.
+    pub fn new(blocks: Vec<usize>, workers: usize) -> StageBoard {
+        let workers = workers.max(1);
+        let next = blocks
+            .iter()
+            .flat_map(|&n| (0..workers).map(move |share| AtomicUsize::new(n * share / workers)))
+            .collect();
+        StageBoard {
+            workers,
+            current: AtomicUsize::new(0),
+            next,
+            done: blocks.iter().map(|_| AtomicUsize::new(0)).collect(),
+            blocks,
+            joined: AtomicUsize::new(0),
+            poisoned: std::sync::atomic::AtomicBool::new(false),
+            parking: Parking::default(),
+        }
+    }
+
+    /// Joins the run: `Some(0)` for the leader, who must call [`lead`](Self::lead) for every
+    /// stage in order and then [`finish`](Self::finish); `Some(share)` for a follower, who
+    /// must call [`follow`](Self::follow); `None` once every share is taken.
+    pub fn join(&self) -> Option<usize> {
+        let share = self.joined.fetch_add(1, Ordering::Relaxed);
+        (share < self.workers).then_some(share)
+    }
+
+    /// Leader: runs stage `stage` with the followers (`run(stage, block)` for each block, on
+    /// whichever worker claims it) and returns when every block of it is done. A stage of
+    /// one block runs here alone, unpublished.
+    pub fn lead(&self, stage: usize, run: &mut impl FnMut(usize, usize)) {
+        if self.blocks[stage] <= 1 {
+            if self.blocks[stage] == 1 {
+                run(stage, 0);
+            }
             return;
         }
-        let generation = self.generation.load(Ordering::Acquire);
-        if self.arrived.fetch_add(1, Ordering::AcqRel) + 1 == self.parties {
-            self.arrived.store(0, Ordering::Relaxed);
-            self.generation.fetch_add(1, Ordering::SeqCst);
-            if self.sleepers.load(Ordering::SeqCst) > 0 {
-                let _guard = self.lock.lock();
-                self.wake.notify_all();
+        self.current.store(stage + 1, Ordering::SeqCst);
+        self.parking.notify();
+        self.claim(stage, 0, run);
+        let blocks = self.blocks[stage];
+        // Acquire: the blocks the followers ran happen before what comes next.
+        self.parking.wait(|| {
+            self.done[stage].load(Ordering::Acquire) == blocks
+                || self.poisoned.load(Ordering::Relaxed)
+        });
+        assert!(
+            !self.poisoned.load(Ordering::Relaxed),
+            "a worker panicked in a solver stage"
+        );
+    }
+
+    /// Leader: tells the followers that the last stage is done.
+    pub fn finish(&self) {
+        self.current.store(FINISHED, Ordering::SeqCst);
+        self.parking.notify();
+    }
+
+    /// Follower `share`: runs its part of each stage the leader publishes, until it finishes.
+    /// A follower that falls behind skips the stages it missed (their blocks are all done).
+    pub fn follow(&self, share: usize, run: &mut impl FnMut(usize, usize)) {
+        let mut seen = 0;
+        loop {
+            let mut current = seen;
+            // Acquire: all that the stages before the published one wrote is visible.
+            self.parking.wait(|| {
+                current = self.current.load(Ordering::Acquire);
+                current != seen || self.poisoned.load(Ordering::Relaxed)
+            });
+            if current == FINISHED || self.poisoned.load(Ordering::Relaxed) {
+                return;
             }
-        } else {
-            let mut spins = 0u32;
-            while self.generation.load(Ordering::Acquire) == generation {
-                std::hint::spin_loop();
-                spins += 1;
-                // On an oversubscribed machine let the late worker run.
-                if spins > 64 {
-                    std::thread::yield_now();
-                }
-                // In a Web Worker `yield_now` does nothing, so a waiter would burn its whole
-                // time slice while the late worker is descheduled: block instead (measured in
-                // chromium at 2 threads on a busy machine: 40.9 -> 3.5 ms per step).
-                if cfg!(target_arch = "wasm32") && spins > 4096 {
-                    let mut guard = self.lock.lock().unwrap_or_else(|e| e.into_inner());
-                    self.sleepers.fetch_add(1, Ordering::SeqCst);
-                    while self.generation.load(Ordering::SeqCst) == generation {
-                        guard = self.wake.wait(guard).unwrap_or_else(|e| e.into_inner());
-                    }
-                    self.sleepers.fetch_sub(1, Ordering::SeqCst);
+            seen = current;
+            self.claim(current - 1, share, run);
+        }
+    }
+
+    /// Claims and runs blocks of `stage`: those of share `share` first, then the others'.
+    fn claim(&self, stage: usize, share: usize, run: &mut impl FnMut(usize, usize)) {
+        let (workers, blocks) = (self.workers, self.blocks[stage]);
+        let mut completed = 0;
+        let _poison = PoisonOnPanic(self);
+        for i in 0..workers {
+            let from = (share + i) % workers;
+            let end = blocks * (from + 1) / workers;
+            let cursor = &self.next[stage * workers + from];
+            // Each block index is handed out once; the claim itself orders nothing (what the
+            // blocks write is published through `done` and `current`).
+            while cursor.load(Ordering::Relaxed) < end {
+                let block = cursor.fetch_add(1, Ordering::Relaxed);
+                if block >= end {
                     break;
                 }
+                run(stage, block);
+                completed += 1;
             }
+        }
+        if completed > 0 {
+            // Release: this worker's blocks happen before the leader's next stage.
+            self.done[stage].fetch_add(completed, Ordering::SeqCst);
+            self.parking.notify();
         }
     }
 }
@@ -235,26 +370,48 @@ mod tests {
     }
 
     #[test]
-    fn barrier_orders_phases() {
+    fn every_block_runs_once_and_stages_in_order() {
         use std::sync::atomic::AtomicU64;
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(3)
-            .build()
-            .unwrap();
-        let barrier = SpinBarrier::new(3);
-        let data: Vec<AtomicU64> = (0..3).map(|_| AtomicU64::new(0)).collect();
-        pool.broadcast(|ctx| {
-            let i = ctx.index();
-            for round in 1..=200u64 {
-                data[i].store(round, Ordering::Relaxed);
-                barrier.wait();
-                // Everyone has written this round before anyone reads it, and nobody writes
-                // the next round before everyone has read this one.
-                for d in &data {
-                    assert_eq!(d.load(Ordering::Relaxed), round);
+        // Stages of 0 to 40 blocks; each block records the stage it ran in and checks that
+        // every block of the stage before is done. One worker is slowed now and then, so
+        // the others take blocks from its share.
+        let blocks: Vec<usize> = (0..60).map(|s| (s * 7) % 41).collect();
+        for threads in 1..=4 {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let board = StageBoard::new(blocks.clone(), threads);
+            let runs: Vec<Vec<AtomicU64>> = blocks
+                .iter()
+                .map(|&n| (0..n).map(|_| AtomicU64::new(0)).collect())
+                .collect();
+            let run = |stage: usize, block: usize| {
+                if stage > 0 {
+                    for r in &runs[stage - 1] {
+                        assert_eq!(r.load(Ordering::Relaxed), 1, "stage {stage} began early");
+                    }
                 }
-                barrier.wait();
+                if block.is_multiple_of(5) && stage.is_multiple_of(3) {
+                    std::thread::sleep(std::time::Duration::from_micros(200));
+                }
+                runs[stage][block].fetch_add(1, Ordering::Relaxed);
+            };
+            pool.broadcast(|_| match board.join() {
+                Some(0) => {
+                    for stage in 0..blocks.len() {
+                        board.lead(stage, &mut |s, b| run(s, b));
+                    }
+                    board.finish();
+                }
+                Some(share) => board.follow(share, &mut |s, b| run(s, b)),
+                None => {}
+            });
+            for (stage, r) in runs.iter().enumerate() {
+                for (block, n) in r.iter().enumerate() {
+                    assert_eq!(n.load(Ordering::Relaxed), 1, "{threads}: {stage}/{block}");
+                }
             }
-        });
+        }
     }
 }

@@ -22,7 +22,7 @@ use glam::Vec2;
 
 use crate::collision::Manifold;
 use crate::math::dot;
-use crate::parallel::{BodyStates, SharedSlice, SpinBarrier, worker_range};
+use crate::parallel::{BodyStates, SharedSlice, StageBoard, worker_range};
 use contact_solver::{BodyState, ConstraintPoint, ContactConstraint, Softness};
 use graph_color::{COLOR_COUNT, GraphColoring, OVERFLOW};
 use wide::{LANES, LaneIndex, LaneInput, LaneWriter, WideConstraint};
@@ -434,12 +434,15 @@ impl Solver {
     }
 
     /// Runs the substeps, then restitution, on `workers` threads of the current rayon pool
-    /// (1: on this thread, with no synchronisation). Returns how often a speed cap bit, and the workers used.
+    /// (1: on this thread, with no synchronisation). Returns how often a speed cap bit, and
+    /// the workers used.
     ///
-    /// Every worker walks the same list of stages; inside a stage it takes its own share of
-    /// the bodies or of one colour's constraints, and a barrier closes the stage. The
-    /// overflow is solved by worker 0 alone. The result does not depend on `workers`: each
-    /// colour's constraints touch disjoint bodies, so their order within a colour is moot.
+    /// The stages (Box2D v3's `b2SolverStage` list) are laid out once as a plan; one worker
+    /// walks it and the others help with each stage through a [`StageBoard`]: a stage's
+    /// blocks are bodies (integration) or one colour's constraints, and each colour's
+    /// overflow is solved by the leading worker alone before the colours. The result does
+    /// not depend on `workers` nor on who runs which block: each colour's constraints touch
+    /// disjoint bodies, so their order within a colour is moot.
     #[allow(unsafe_code)]
     pub fn run_substeps(
         &mut self,
@@ -453,54 +456,110 @@ impl Solver {
             .max(1)
             .min(rayon::current_num_threads())
             .min(crate::default_thread_count());
-        let any_restitution = self.any_restitution;
-        let stages = Stages {
+        let plan = self.plan(motion.len(), step, workers);
+        let passes = Passes {
             scalar: SharedSlice::new(&mut self.constraints),
-            color_ranges: &self.color_ranges,
-            use_wide: self.use_wide,
             wide: SharedSlice::new(&mut self.wide),
-            wide_ranges: &self.wide_ranges,
-            any_restitution,
+            use_wide: self.use_wide,
             use_avx: self.use_avx,
         };
-        let caps = if workers == 1 {
+        if workers == 1 {
             let states = BodyStates::exclusive(states);
-            run_worker(&stages, &states, motion, step, 0, 1, None)
-        } else {
-            run_parallel(&stages, states, motion, step, workers)
-        };
-        (caps, workers)
-    }
-}
-
-#[allow(unsafe_code)]
-fn run_parallel(
-    stages: &Stages<'_>,
-    states: &mut [BodyState],
-    motion: &[BodyMotion],
-    step: &SubstepParams,
-    workers: usize,
-) -> u64 {
-    // SAFETY: `run_worker` hands each worker disjoint body ranges in the integration
-    // stages, and in the constraint stages disjoint constraints of one colour, which touch
-    // disjoint dynamic bodies and write no other body; barriers separate the stages.
-    let states = unsafe { BodyStates::shared(states) };
-    let barrier = SpinBarrier::new(workers);
-    let caps: Vec<u64> = rayon::broadcast(|ctx| {
-        if ctx.index() >= workers {
-            return 0;
+            let caps = plan
+                .iter()
+                .map(|stage| passes.run(stage, stage.items.clone(), &states, motion, step))
+                .sum();
+            return (caps, 1);
         }
-        run_worker(
-            stages,
-            &states,
-            motion,
-            step,
-            ctx.index(),
-            workers,
-            Some(&barrier),
-        )
-    });
-    caps.iter().sum()
+        // SAFETY: a block is bodies of an integration stage, or constraints of one colour
+        // (which touch disjoint dynamic bodies and write no other body), and the blocks of one
+        // stage are disjoint; the board runs the stages one after another.
+        let states = unsafe { BodyStates::shared(states) };
+        let board = StageBoard::new(plan.iter().map(|stage| stage.blocks).collect(), workers);
+        let caps: Vec<u64> = rayon::broadcast(|_| {
+            let mut caps = 0;
+            let mut run = |s: usize, block: usize| {
+                let stage = &plan[s];
+                let items = worker_range(&stage.items, block, stage.blocks);
+                caps += passes.run(stage, items, &states, motion, step);
+            };
+            match board.join() {
+                Some(0) => {
+                    for s in 0..plan.len() {
+                        board.lead(s, &mut run);
+                    }
+                    board.finish();
+                }
+                Some(share) => board.follow(share, &mut run),
+                None => {}
+            }
+            caps
+        });
+        (caps.iter().sum(), workers)
+    }
+
+    /// The stages of one run of substeps, in order: per substep, integrate velocities, warm
+    /// start, solve, integrate positions and relax (each colour pass as one stage per colour,
+    /// the overflow first), then the restitution passes when any constraint bounces.
+    fn plan(&self, bodies: usize, step: &SubstepParams, workers: usize) -> Vec<Stage> {
+        // Blocks small enough that a worker that finishes early can take a slow one's last
+        // blocks, large enough that claiming one (an atomic add) stays negligible.
+        let blocks = |len: usize, min: usize| (len / min).clamp(1, 8 * workers);
+        let mut plan = Vec::new();
+        let bodies_stage = |pass| Stage {
+            pass,
+            color: 0,
+            items: 0..bodies,
+            blocks: blocks(bodies, 128),
+        };
+        let colors = |plan: &mut Vec<Stage>, pass| {
+            for (k, r) in self.color_ranges.iter().enumerate() {
+                if r.is_empty() {
+                    continue;
+                }
+                let stage = if k == 0 {
+                    // The overflow: its constraints may share bodies, so one worker alone.
+                    Stage {
+                        pass,
+                        color: 0,
+                        items: r.clone(),
+                        blocks: 1,
+                    }
+                } else if self.use_wide {
+                    let items = self.wide_ranges[k].clone();
+                    Stage {
+                        pass,
+                        color: k,
+                        blocks: blocks(items.len(), 4),
+                        items,
+                    }
+                } else {
+                    Stage {
+                        pass,
+                        color: k,
+                        items: r.clone(),
+                        blocks: blocks(r.len(), 32),
+                    }
+                };
+                plan.push(stage);
+            }
+        };
+        for _ in 0..step.substeps {
+            plan.push(bodies_stage(Pass::IntegrateVelocities));
+            colors(&mut plan, Pass::WarmStart);
+            colors(&mut plan, Pass::Solve);
+            plan.push(bodies_stage(Pass::IntegratePositions));
+            for _ in 0..step.relax_iterations {
+                colors(&mut plan, Pass::Relax);
+            }
+        }
+        if self.any_restitution {
+            for _ in 0..step.restitution_iterations.max(1) {
+                colors(&mut plan, Pass::Restitution);
+            }
+        }
+        plan
+    }
 }
 
 /// Builds one constraint from its contact: copies what the substeps need and computes the
@@ -597,111 +656,106 @@ pub struct SubstepParams {
     pub restitution_iterations: u32,
 }
 
+/// What a stage does.
+#[derive(Clone, Copy, Debug)]
+enum Pass {
+    IntegrateVelocities,
+    WarmStart,
+    Solve,
+    IntegratePositions,
+    Relax,
+    Restitution,
+}
+
+/// One stage of the plan: a pass over bodies, or over one colour's constraints.
+#[derive(Clone, Debug)]
+struct Stage {
+    pass: Pass,
+    /// For a constraint pass, the colour's index in `color_ranges` (0: the overflow).
+    color: usize,
+    /// Bodies, or the colour's constraints (wide ones when packed).
+    items: Range<usize>,
+    /// Blocks it is cut into.
+    blocks: usize,
+}
+
 /// The constraint arrays the workers share.
-struct Stages<'a> {
+struct Passes<'a> {
     scalar: SharedSlice<'a, ContactConstraint>,
-    color_ranges: &'a [Range<usize>],
-    use_wide: bool,
     wide: SharedSlice<'a, WideConstraint>,
-    wide_ranges: &'a [Range<usize>],
-    any_restitution: bool,
+    use_wide: bool,
     use_avx: bool,
 }
 
-/// One worker's walk through the stages of the substep loop.
-#[allow(unsafe_code)]
-fn run_worker(
-    stages: &Stages<'_>,
-    states: &BodyStates<'_>,
-    motion: &[BodyMotion],
-    p: &SubstepParams,
-    worker: usize,
-    workers: usize,
-    barrier: Option<&SpinBarrier>,
-) -> u64 {
-    let sync = || {
-        if let Some(b) = barrier {
-            b.wait();
-        }
-    };
-    let bodies = worker_range(&(0..motion.len()), worker, workers);
-    let inv_h = 1.0 / p.h;
-    let avx = stages.use_avx;
-    // A colour stage: worker 0 alone solves the overflow on the scalar path, then every
-    // colour's constraints (eight-wide, or scalar when SIMD is off) are shared among the
-    // workers, a barrier after each.
-    let colors = |scalar: &mut dyn FnMut(&mut [ContactConstraint]),
-                  colour: &mut dyn FnMut(&mut [WideConstraint])| {
-        for (k, r) in stages.color_ranges.iter().enumerate() {
-            if r.is_empty() {
-                continue;
-            }
-            if k == 0 {
-                if worker == 0 {
-                    // SAFETY: only worker 0 touches the overflow; the others wait at the barrier.
-                    scalar(unsafe { stages.scalar.range_mut(r.clone()) });
+impl Passes<'_> {
+    /// Runs `stage` over `items`, a block of its items (all of them on one thread). Returns
+    /// how often a speed cap bit.
+    #[allow(unsafe_code)]
+    fn run(
+        &self,
+        stage: &Stage,
+        items: Range<usize>,
+        states: &BodyStates<'_>,
+        motion: &[BodyMotion],
+        p: &SubstepParams,
+    ) -> u64 {
+        let inv_h = 1.0 / p.h;
+        let avx = self.use_avx;
+        let push = p.max_push_speed;
+        let mut caps = 0;
+        // The overflow, and every colour when SIMD is off, are scalar constraints.
+        let scalar = stage.color == 0 || !self.use_wide;
+        match stage.pass {
+            Pass::IntegrateVelocities => {
+                for i in items {
+                    let m = &motion[i];
+                    if m.dynamic {
+                        let mut s = states.get(i);
+                        let (lin, ang) = (m.linear_damping, m.angular_damping);
+                        integrate_velocity(&mut s, p.gravity, p.h, lin, ang);
+                        states.set(i, s);
+                    }
                 }
-            } else if stages.use_wide {
-                let mine = worker_range(&stages.wide_ranges[k], worker, workers);
-                // SAFETY: worker ranges of one colour are disjoint; barriers separate colours.
-                colour(unsafe { stages.wide.range_mut(mine) });
-            } else {
-                let mine = worker_range(r, worker, workers);
+            }
+            Pass::IntegratePositions => {
+                for i in items {
+                    let m = &motion[i];
+                    if m.moves {
+                        let mut s = states.get(i);
+                        let cap = if m.dynamic {
+                            p.max_linear_speed
+                        } else {
+                            f32::INFINITY
+                        };
+                        caps +=
+                            u64::from(integrate_position(&mut s, p.h, cap, m.rotates) && m.dynamic);
+                        states.set(i, s);
+                    }
+                }
+            }
+            pass if scalar => {
+                // SAFETY: the blocks of one stage are disjoint (see `run_substeps`).
+                let c = unsafe { self.scalar.range_mut(items) };
+                match pass {
+                    Pass::WarmStart => contact_solver::warm_start(c, states),
+                    Pass::Solve => contact_solver::solve(c, states, inv_h, true, push),
+                    Pass::Relax => contact_solver::solve(c, states, inv_h, false, push),
+                    _ => contact_solver::apply_restitution(c, states, p.restitution_threshold),
+                }
+            }
+            pass => {
                 // SAFETY: as above.
-                scalar(unsafe { stages.scalar.range_mut(mine) });
-            }
-            sync();
-        }
-    };
-    let mut caps = 0u64;
-    for _ in 0..p.substeps {
-        for i in bodies.clone() {
-            let m = &motion[i];
-            if m.dynamic {
-                let mut s = states.get(i);
-                integrate_velocity(&mut s, p.gravity, p.h, m.linear_damping, m.angular_damping);
-                states.set(i, s);
+                let c = unsafe { self.wide.range_mut(items) };
+                match pass {
+                    Pass::WarmStart => wide::warm_start(c, states, avx),
+                    Pass::Solve => wide::solve(c, states, inv_h, true, push, avx),
+                    Pass::Relax => wide::solve(c, states, inv_h, false, push, avx),
+                    _ => wide::apply_restitution(c, states, p.restitution_threshold, avx),
+                }
             }
         }
-        sync();
-        colors(&mut |c| contact_solver::warm_start(c, states), &mut |c| {
-            wide::warm_start(c, states, avx)
-        });
-        colors(
-            &mut |c| contact_solver::solve(c, states, inv_h, true, p.max_push_speed),
-            &mut |c| wide::solve(c, states, inv_h, true, p.max_push_speed, avx),
-        );
-        for i in bodies.clone() {
-            let m = &motion[i];
-            if m.moves {
-                let mut s = states.get(i);
-                let cap = if m.dynamic {
-                    p.max_linear_speed
-                } else {
-                    f32::INFINITY
-                };
-                caps += u64::from(integrate_position(&mut s, p.h, cap, m.rotates) && m.dynamic);
-                states.set(i, s);
-            }
-        }
-        sync();
-        for _ in 0..p.relax_iterations {
-            colors(
-                &mut |c| contact_solver::solve(c, states, inv_h, false, p.max_push_speed),
-                &mut |c| wide::solve(c, states, inv_h, false, p.max_push_speed, avx),
-            );
-        }
+        caps
     }
-    if stages.any_restitution {
-        let t = p.restitution_threshold;
-        for _ in 0..p.restitution_iterations.max(1) {
-            colors(
-                &mut |c| contact_solver::apply_restitution(c, states, t),
-                &mut |c| wide::apply_restitution(c, states, t, avx),
-            );
-        }
-    }
-    caps
 }
 
 /// Integrates one dynamic body's velocity over a substep: damping as the Padé approximation
