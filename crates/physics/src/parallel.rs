@@ -40,10 +40,11 @@ impl<'a> BodyStates<'a> {
     /// Shared access for concurrent workers.
     ///
     /// # Safety
-    /// Between two barriers, a body written by one worker (`set`, `set_velocity`) is neither
-    /// read nor written by any other worker. The solver ensures this by colouring (a dynamic
-    /// body is in at most one constraint per colour, and only dynamic bodies are written) and
-    /// by giving each worker its own range of bodies in the integration stages.
+    /// Within one stage of a [`StageBoard`], a body written by one worker (`set`,
+    /// `set_velocity`) is neither read nor written by any other worker. The solver ensures
+    /// this by colouring (a dynamic body is in at most one constraint per colour, and only
+    /// dynamic bodies are written) and by giving each block of an integration stage its own
+    /// range of bodies.
     pub unsafe fn shared(states: &'a mut [BodyState]) -> Self {
         Self::exclusive(states)
     }

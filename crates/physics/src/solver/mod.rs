@@ -4,10 +4,11 @@
 //!    (overflow first), compute effective masses and base separations;
 //! 2. **substeps**, each: integrate velocities → warm start → solve (soft, with bias) →
 //!    integrate positions → relax (rigid, no bias, with friction) × `relax_iterations`;
-//! 3. **restitution** once (skipped when no constraint bounces), then **store** the
-//!    accumulated impulses into the contacts for the next step's warm start.
+//! 3. **restitution** (skipped when no constraint bounces; `restitution_iterations` passes),
+//!    then **store** the accumulated impulses into the contacts for the next step's warm start.
 //!
-//! Each colour's constraints touch disjoint dynamic bodies; the passes walk colours in order.
+//! Each colour's constraints touch disjoint dynamic bodies; the passes walk colours in order,
+//! each colour a stage of the plan that [`crate::parallel::StageBoard`] runs on the workers.
 
 pub mod contact_solver;
 pub mod graph_color;
