@@ -186,6 +186,12 @@ struct ContactKey {
     remove: bool,
 }
 
+/// A contact's copy of its bodies' masses (`Contact::masses`), made when it is created and
+/// when a snapshot is restored.
+fn masses_of(bodies: &[SolverBody], a: u32, b: u32) -> [SolverBody; 2] {
+    [bodies[a as usize], bodies[b as usize]]
+}
+
 impl ContactKey {
     fn of(c: &Contact) -> ContactKey {
         let side = |i: u32, m: &SolverBody| if m.dynamic { i } else { NOT_DYNAMIC };
@@ -654,10 +660,7 @@ impl World {
         world.guarded = vec![false; n];
         world.contacts = snapshot.contacts;
         for c in &mut world.contacts {
-            c.masses = [
-                world.solver_bodies[c.body_a as usize],
-                world.solver_bodies[c.body_b as usize],
-            ];
+            c.masses = masses_of(&world.solver_bodies, c.body_a, c.body_b);
         }
         world.contact_keys = world.contacts.iter().map(ContactKey::of).collect();
         world.steps = snapshot.steps;
@@ -941,10 +944,7 @@ impl World {
             restitution: sa.restitution.max(sb.restitution),
             manifold: Manifold::default(),
             cache: None,
-            masses: [
-                self.solver_bodies[a as usize],
-                self.solver_bodies[b as usize],
-            ],
+            masses: masses_of(&self.solver_bodies, a, b),
         };
         self.pairs
             .insert(pair_key(a, b), self.contacts.len() as u32);

@@ -518,31 +518,22 @@ impl Solver {
                 if r.is_empty() {
                     continue;
                 }
-                let stage = if k == 0 {
+                let (items, blocks) = if k == 0 {
                     // The overflow: its constraints may share bodies, so one worker alone.
-                    Stage {
-                        pass,
-                        color: 0,
-                        items: r.clone(),
-                        blocks: 1,
-                    }
+                    (r.clone(), 1)
                 } else if self.use_wide {
                     let items = self.wide_ranges[k].clone();
-                    Stage {
-                        pass,
-                        color: k,
-                        blocks: blocks(items.len(), 4),
-                        items,
-                    }
+                    let n = blocks(items.len(), 4);
+                    (items, n)
                 } else {
-                    Stage {
-                        pass,
-                        color: k,
-                        items: r.clone(),
-                        blocks: blocks(r.len(), 32),
-                    }
+                    (r.clone(), blocks(r.len(), 32))
                 };
-                plan.push(stage);
+                plan.push(Stage {
+                    pass,
+                    color: k,
+                    items,
+                    blocks,
+                });
             }
         };
         for _ in 0..step.substeps {
