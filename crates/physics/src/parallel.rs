@@ -1,5 +1,7 @@
-//! The one module with unsafe code: shared access to flat arrays from the step's workers, and
-//! the stage board that runs the solver's stages on them.
+//! Shared access to flat arrays from the step's workers, and the stage board that runs the
+//! solver's stages on them. Unsafe code is denied crate-wide and allowed only where needed: here,
+//! in the solver's calls into these accessors, in `solver::wide::LaneWriter` (concurrent
+//! per-lane writes) and in `solver::lanes` (AVX2 intrinsics); each states its contract.
 //!
 //! Why unsafe: inside one graph colour, constraints touch disjoint dynamic bodies (that is what
 //! the colouring guarantees) and only read static and kinematic ones, so workers may update

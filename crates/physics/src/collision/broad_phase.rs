@@ -41,13 +41,6 @@ pub struct BroadPhase {
     built_cost: f32,
 }
 
-/// Of two inner nodes walked against each other, whether to split the first: the one with
-/// the larger box, so the pair of boxes shrinks fastest.
-#[inline]
-fn descend_first(a: &Node, b: &Node) -> bool {
-    a.aabb.perimeter() >= b.aabb.perimeter()
-}
-
 impl BroadPhase {
     /// The nodes, root first (empty when there are no proxies); for debug drawing.
     pub fn nodes(&self) -> &[Node] {
@@ -233,22 +226,27 @@ impl BroadPhase {
             self.pairs_between(a, b, aabbs, &mut |p, q| out.extend(keep(p, q)));
             return out;
         }
-        let (x, y) = if descend_first(&na, &nb) {
-            let c = na.child_or_first as usize;
-            rayon::join(
-                || self.par_between(c, b, depth - 1, aabbs, keep),
-                || self.par_between(c + 1, b, depth - 1, aabbs, keep),
-            )
-        } else {
-            let c = nb.child_or_first as usize;
-            rayon::join(
-                || self.par_between(a, c, depth - 1, aabbs, keep),
-                || self.par_between(a, c + 1, depth - 1, aabbs, keep),
-            )
-        };
-        let mut x = x;
+        let [(a1, b1), (a2, b2)] = self.split_pair(a, b);
+        let (mut x, y) = rayon::join(
+            || self.par_between(a1, b1, depth - 1, aabbs, keep),
+            || self.par_between(a2, b2, depth - 1, aabbs, keep),
+        );
         x.extend(y);
         x
+    }
+
+    /// The two node pairs a walk of nodes `a` against `b` (not both leaves) descends to: it
+    /// splits the inner one, or of two inner nodes the one with the larger box, so the pair
+    /// of boxes shrinks fastest.
+    fn split_pair(&self, a: usize, b: usize) -> [(usize, usize); 2] {
+        let (na, nb) = (&self.nodes[a], &self.nodes[b]);
+        if !na.is_leaf() && (nb.is_leaf() || na.aabb.perimeter() >= nb.aabb.perimeter()) {
+            let c = na.child_or_first as usize;
+            [(c, b), (c + 1, b)]
+        } else {
+            let c = nb.child_or_first as usize;
+            [(a, c), (a, c + 1)]
+        }
     }
 
     fn leaf_items(&self, node: &Node) -> &[u32] {
@@ -280,39 +278,19 @@ impl BroadPhase {
         if !na.aabb.overlaps(&nb.aabb) {
             return;
         }
-        match (na.is_leaf(), nb.is_leaf()) {
-            (true, true) => {
-                for &p in self.leaf_items(&na) {
-                    let bp = &aabbs[p as usize];
-                    for &q in self.leaf_items(&nb) {
-                        if bp.overlaps(&aabbs[q as usize]) {
-                            f(p, q);
-                        }
+        if na.is_leaf() && nb.is_leaf() {
+            for &p in self.leaf_items(&na) {
+                let bp = &aabbs[p as usize];
+                for &q in self.leaf_items(&nb) {
+                    if bp.overlaps(&aabbs[q as usize]) {
+                        f(p, q);
                     }
                 }
             }
-            // Descend the inner node; of two inner nodes, the one with the larger box.
-            (true, false) => {
-                let c = nb.child_or_first as usize;
-                self.pairs_between(a, c, aabbs, f);
-                self.pairs_between(a, c + 1, aabbs, f);
-            }
-            (false, true) => {
-                let c = na.child_or_first as usize;
-                self.pairs_between(c, b, aabbs, f);
-                self.pairs_between(c + 1, b, aabbs, f);
-            }
-            (false, false) => {
-                if descend_first(&na, &nb) {
-                    let c = na.child_or_first as usize;
-                    self.pairs_between(c, b, aabbs, f);
-                    self.pairs_between(c + 1, b, aabbs, f);
-                } else {
-                    let c = nb.child_or_first as usize;
-                    self.pairs_between(a, c, aabbs, f);
-                    self.pairs_between(a, c + 1, aabbs, f);
-                }
-            }
+            return;
+        }
+        for (a, b) in self.split_pair(a, b) {
+            self.pairs_between(a, b, aabbs, f);
         }
     }
 
