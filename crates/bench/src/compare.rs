@@ -171,15 +171,15 @@ mod imp {
             Ok([b.linear_velocity.x, b.linear_velocity.y, b.angular_velocity])
         }
         fn stages(&mut self) -> Vec<(&'static str, f64)> {
-            let p = self.world.profile();
-            vec![
-                ("broad phase", p.broad_phase_ms),
-                ("narrow phase", p.narrow_phase_ms),
-                ("prepare", p.prepare_ms),
-                ("substeps", p.solve_ms),
-                ("store impulses", p.store_impulses_ms),
-                ("finalize", p.finalize_ms),
-            ]
+            // tumble's own stages are the common ones, in the same step order (both arrays
+            // are six long, so a stage added to one without the other fails to compile).
+            let names: [&'static str; 6] = crate::peers::STAGES;
+            let stages: [(&str, f64); 6] = self.world.profile().stages();
+            names
+                .into_iter()
+                .zip(stages)
+                .map(|(name, (_, ms))| (name, ms))
+                .collect()
         }
     }
 
