@@ -17,7 +17,9 @@ pub fn run(world: &mut World, scene: &SceneDef, n: u32) {
     }
 }
 
-/// Whether every body's state is finite.
+/// Whether every body's state is finite and stayed so: the step's NaN guard stops a body
+/// whose state turns non-finite and leaves it finite, so `is_finite` alone cannot fail; the
+/// world's running count of the bodies the guard stopped must be 0 too.
 pub fn all_finite(world: &World) -> bool {
-    world.is_finite()
+    world.is_finite() && world.non_finite_bodies() == 0
 }

@@ -5,6 +5,8 @@
 //   TUMBLE_URL               the bundle, served with the cross-origin isolation headers
 //   TUMBLE_URL_NOT_ISOLATED  the same bundle without them (optional)
 //   TUMBLE_OUT               where screenshots go (optional)
+//   TUMBLE_NATIVE_HASH       `tumble-bench run falling_circles --steps 120 --threads 1`'s
+//                            `state_hash`, which the page must reproduce at 1 and 2 threads
 //
 // By hand: `cargo xtask web --release`, then in this folder
 // `npm ci && TUMBLE_URL=http://127.0.0.1:8080/ node --test web.test.mjs`.
@@ -220,6 +222,38 @@ describe('web build, the canvas', () => {
     assert.deepEqual(errors, [], 'no console errors');
     await page.close();
   });
+});
+
+describe('web build, the same state as the native build', () => {
+  let browser;
+  before(async () => {
+    browser = await chromium.launch({ executablePath: CHROMIUM, args: BASE_FLAGS, headless: true });
+  });
+  after(async () => {
+    await browser?.close();
+  });
+
+  // The step is deterministic on any thread count, and the wasm build runs the same
+  // arithmetic as the native one (no fused multiply-add, the 8-lane kernels as portable
+  // SIMD, which equals the AVX2 and scalar paths bit for bit), so after the same steps the
+  // state hash is the native runner's, at 1 and at 2 threads (falling_circles: 300 bodies,
+  // over 256 touching contacts by step 120, so 2 threads solve in parallel).
+  for (const threads of [1, 2]) {
+    test(`falling_circles after 120 steps on ${threads} thread(s) hashes as natively`, { timeout: TEST_TIMEOUT }, async () => {
+      const native = process.env.TUMBLE_NATIVE_HASH;
+      assert.match(native ?? '', /^[0-9a-f]{16}$/, 'TUMBLE_NATIVE_HASH (set by cargo xtask test) is the native state hash');
+      const page = await browser.newPage();
+      const errors = [];
+      page.on('pageerror', (error) => errors.push(`page error: ${error.message}`));
+      await page.goto(`${URL}?bench=falling_circles&threads=${threads}&steps=120`);
+      await page.waitForFunction(() => window.tumble_bench !== undefined, null, { timeout: LOAD_TIMEOUT, polling: 200 });
+      const result = await page.evaluate(() => window.tumble_bench);
+      assert.equal(result.cross_origin_isolated, true);
+      assert.equal(result.state_hash, native, `the page's state after 120 steps at ${threads} thread(s)`);
+      assert.deepEqual(errors, [], 'no page errors');
+      await page.close();
+    });
+  }
 });
 
 describe('web build, a panic', () => {

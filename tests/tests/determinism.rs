@@ -1,7 +1,7 @@
 //! Determinism across thread counts: the same scene stepped on 1, 2, 3 and 4 threads, and with
 //! the thread count changed mid-run, ends in bit-identical states.
 
-use tumble_physics::{ShapeDef, StepSettings, World};
+use tumble_physics::{BodyDef, BodyKind, SceneDef, ShapeDef, StepSettings, World};
 use tumble_tests::{all_finite, world};
 
 const STEPS: u32 = 240;
@@ -179,4 +179,107 @@ fn repeated_restitution_passes_are_bit_identical_on_any_thread_count() {
         },
     );
     assert_ne!(one.hash, single.hash);
+}
+
+/// Steps `scene` for `steps` steps on `workers` real solver workers (beyond the cores where
+/// the machine has fewer), checking each step that the solver ran on all of them; the state
+/// bits, the largest overflow seen and the kinematic bodies' count.
+fn run_workers(scene: &SceneDef, steps: u32, workers: usize) -> (Run, usize) {
+    let mut w = world(scene);
+    w.set_workers_beyond_cores(true);
+    w.set_thread_count(workers);
+    let mut overflow = 0;
+    for step in 0..steps {
+        w.step(scene.dt, scene.substeps);
+        let p = w.profile();
+        assert_eq!(
+            p.solver_workers, workers,
+            "{}: step {step} solved on {} workers, not {workers}",
+            scene.name, p.solver_workers
+        );
+        overflow = overflow.max(p.overflow);
+    }
+    assert!(all_finite(&w), "{}: non-finite state", scene.name);
+    let run = Run {
+        label: format!("{} on {workers} workers", scene.name),
+        state: snapshot(&w),
+        hash: w.state_hash(),
+        contacts: w.contact_count(),
+        circle_contacts: 0,
+    };
+    (run, overflow)
+}
+
+/// `large_pyramid` with two more things beside it: 30 posts carrying one plank (the plank's
+/// 30 contacts with dynamic bodies exceed the 20 colours such contacts may take, so 10 go to
+/// the overflow, which one worker solves alone while the others wait), and a kinematic box
+/// pushing the pyramid's left flank at 1 m/s from step 30 on.
+fn pyramid_with_overflow_and_kinematic() -> SceneDef {
+    let mut scene = tumble_scene::builtin::build("large_pyramid").expect("large_pyramid");
+    let unit = ShapeDef::Box {
+        half_extents: [0.5, 0.5],
+    };
+    for i in 0..30 {
+        scene.push(BodyDef::new(unit.clone()).at(55.0 + 1.5 * i as f32, 0.5));
+    }
+    scene.push(
+        BodyDef::new(ShapeDef::Box {
+            half_extents: [23.0, 0.25],
+        })
+        .at(55.0 + 1.5 * 14.5, 1.25),
+    );
+    scene.push(
+        BodyDef::new(unit)
+            .kind(BodyKind::Kinematic)
+            .at(-51.0, 0.5)
+            .velocity(1.0, 0.0),
+    );
+    scene.name = "large_pyramid + plank + kinematic".into();
+    scene
+}
+
+#[test]
+fn benchmark_scenes_are_bit_identical_on_1_to_4_real_workers() {
+    // 60 steps each (1 s). The solver runs 3 and 4 workers even on a 2-core machine (the
+    // default caps them at the cores), so each colour's blocks are really shared four ways.
+    let pyramid = pyramid_with_overflow_and_kinematic();
+    // smash's ram starts 50 m from the grid and reaches it after 69 steps: moved to 10 m, it
+    // hits at step 15, and the 60 steps cover the impact and contacts made and broken.
+    let mut smash = tumble_scene::builtin::build("smash").expect("smash");
+    smash.bodies[0].position = [16.0, 0.0];
+    for scene in [&pyramid, &smash] {
+        let (one, overflow) = run_workers(scene, 60, 1);
+        if scene.name != "smash" {
+            assert!(overflow >= 10, "{}: overflow {overflow}", scene.name);
+        }
+        for workers in 2..=4 {
+            let (other, _) = run_workers(scene, 60, workers);
+            assert_same(&one, &other);
+        }
+    }
+}
+
+#[test]
+fn the_thread_count_changes_mid_run_on_a_parallel_scene() {
+    // large_pyramid solves on several workers every step (its 14,950 touching contacts are
+    // far above the 256 below which one worker solves alone); the worker count changes every
+    // 5 steps and the result is the same as on one.
+    let scene = tumble_scene::builtin::build("large_pyramid").expect("large_pyramid");
+    let (one, _) = run_workers(&scene, 40, 1);
+    let mut w = world(&scene);
+    w.set_workers_beyond_cores(true);
+    for step in 0..40 {
+        let workers = (step / 5 % 4) as usize + 1;
+        w.set_thread_count(workers);
+        w.step(scene.dt, scene.substeps);
+        assert_eq!(w.profile().solver_workers, workers, "step {step}");
+    }
+    let switching = Run {
+        label: "large_pyramid, 1-4 workers changing every 5 steps".into(),
+        state: snapshot(&w),
+        hash: w.state_hash(),
+        contacts: w.contact_count(),
+        circle_contacts: 0,
+    };
+    assert_same(&one, &switching);
 }

@@ -29,7 +29,7 @@ fn run(scene: &SceneDef, steps: u32) -> World {
             w.step_count()
         );
         assert_eq!(
-            w.profile().non_finite,
+            w.non_finite_bodies(),
             0,
             "{}: the NaN guard fired",
             scene.name

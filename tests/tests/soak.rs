@@ -35,7 +35,7 @@ fn two_thousand_bodies_for_five_thousand_steps() {
         }
     }
     assert!(all_finite(&w));
-    assert_eq!(w.profile().non_finite, 0);
+    assert_eq!(w.non_finite_bodies(), 0, "the NaN guard stopped bodies");
     assert!(
         max_contacts > 2000,
         "the pile never formed: {max_contacts} contacts"

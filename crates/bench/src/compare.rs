@@ -6,6 +6,9 @@ use std::path::PathBuf;
 use anyhow::Result;
 use clap::Args;
 
+/// Default `--warmup`: steps untimed before a run's timed ones.
+const WARMUP_STEPS: u32 = 10;
+
 /// Default scenes: Box2D's own benchmark scenes that tumble builds the same way.
 const DEFAULT_SCENES: &str = "large_pyramid,many_pyramids,smash";
 
@@ -27,9 +30,13 @@ pub struct CompareArgs {
     /// minimum and the median of the runs' mean ms per step.
     #[arg(long, value_name = "R", default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..))]
     pub repeats: u32,
-    /// Steps per run, all timed from the first [default: each scene's own `steps`].
+    /// Timed steps per run, after the warm-up [default: each scene's own `steps`].
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
     pub steps: Option<u32>,
+    /// Untimed steps each run takes first: the first steps of a fresh world create every
+    /// contact and fill every buffer, which no later step repeats.
+    #[arg(long, value_name = "N", default_value_t = WARMUP_STEPS)]
+    pub warmup: u32,
     /// Steps of the 20-row `pyramid` cross-check (0 skips it).
     #[arg(long, value_name = "N", default_value_t = 600)]
     pub check_steps: u32,
@@ -183,9 +190,16 @@ mod imp {
         }
     }
 
-    /// Mean wall ms of `peer.step()` over `steps` steps (nothing else is inside the clock),
-    /// and the mean of each stage the peer reports.
-    fn time_steps(peer: &mut dyn Peer, steps: u32) -> Result<(f64, Vec<(&'static str, f64)>)> {
+    /// Mean wall ms of `peer.step()` over `steps` steps after `warmup` untimed ones (nothing
+    /// else is inside the clock), and the mean of each stage the peer reports.
+    fn time_steps(
+        peer: &mut dyn Peer,
+        warmup: u32,
+        steps: u32,
+    ) -> Result<(f64, Vec<(&'static str, f64)>)> {
+        for _ in 0..warmup {
+            peer.step()?;
+        }
         let mut total = 0.0;
         let mut stages: Vec<(&'static str, f64)> = Vec::new();
         for _ in 0..steps {
@@ -270,11 +284,13 @@ mod imp {
             .with_context(|| format!("cannot create {}", args.out_dir.display()))?;
 
         eprintln!(
-            "compare: {} scenes x threads {:?} x {} repeats x 3 engines; every step of a run is \
-             timed (no warm-up), world building is not",
+            "compare: {} scenes x threads {:?} x {} repeats x 3 engines; each run steps {} times \
+             untimed, then times its steps; world building is not timed; the engines' order \
+             rotates from run to run",
             list.len(),
             threads,
-            args.repeats
+            args.repeats,
+            args.warmup
         );
         let total = list.len() * threads.len() * args.repeats as usize * ENGINES.len();
         let bar = ProgressBar::new(total as u64);
@@ -288,7 +304,11 @@ mod imp {
         for repeat in 0..args.repeats {
             for (scene, settings, steps) in &list {
                 for &t in &threads {
-                    for engine in ENGINES {
+                    // Rotated each run, so no engine always runs first (after a world was
+                    // dropped, on a cold cache) or last.
+                    let mut order = ENGINES;
+                    order.rotate_left(repeat as usize % ENGINES.len());
+                    for engine in order {
                         bar.set_message(format!(
                             "{} {} t={t} #{}",
                             engine.title(),
@@ -296,7 +316,7 @@ mod imp {
                             repeat + 1
                         ));
                         let mut peer = build(engine, scene, settings, t)?;
-                        let (ms, stages) = time_steps(peer.as_mut(), *steps)?;
+                        let (ms, stages) = time_steps(peer.as_mut(), args.warmup, *steps)?;
                         drop(peer);
                         measures.push(Measure {
                             scene: scene.name.clone(),
@@ -370,20 +390,30 @@ mod imp {
         steps: u32,
         /// (min, median) per engine, in `ENGINES` order.
         ms: [(f64, f64); 3],
+        /// Per peer (index 1 and 2 as in `ENGINES`), tumble's ms ÷ the peer's of each run:
+        /// both taken in the same repeat, minutes apart at most, so the machine's load
+        /// drifts less between them than across the whole comparison.
+        ratios: [Vec<f64>; 3],
     }
 
     impl Line {
-        /// tumble's median over the peer's median.
+        /// The median of the runs' ratios, tumble ÷ the peer.
         fn ratio(&self, peer: usize) -> f64 {
-            self.ms[0].1 / self.ms[peer].1
+            median(&self.ratios[peer])
+        }
+        /// The smallest and largest of the runs' ratios.
+        fn spread(&self, peer: usize) -> (f64, f64) {
+            let v = &self.ratios[peer];
+            (min(v), v.iter().copied().fold(f64::MIN, f64::max))
         }
         /// tumble's minimum over the peer's minimum.
         fn ratio_min(&self, peer: usize) -> f64 {
             self.ms[0].0 / self.ms[peer].0
         }
-        /// "median (min)" ratio cell.
+        /// "median (least–most)" ratio cell.
         fn ratio_cell(&self, peer: usize) -> String {
-            format!("{:.2} ({:.2})", self.ratio(peer), self.ratio_min(peer))
+            let (lo, hi) = self.spread(peer);
+            format!("{:.2} ({lo:.2}–{hi:.2})", self.ratio(peer))
         }
     }
 
@@ -403,12 +433,30 @@ mod imp {
                         .collect();
                     (min(&v), median(&v))
                 });
+                let run_ms = |engine: Engine, repeat: u32| {
+                    measures
+                        .iter()
+                        .find(|m| {
+                            m.scene == scene.name
+                                && m.threads == t
+                                && m.engine == engine
+                                && m.repeat == repeat
+                        })
+                        .map(|m| m.ms)
+                };
+                let ratios = std::array::from_fn(|peer| {
+                    let repeats = measures.iter().map(|m| m.repeat).max().map_or(0, |r| r + 1);
+                    (0..repeats)
+                        .filter_map(|r| Some(run_ms(ENGINES[0], r)? / run_ms(ENGINES[peer], r)?))
+                        .collect()
+                });
                 out.push(Line {
                     scene: scene.name.clone(),
                     bodies: scene.bodies.len(),
                     threads: t,
                     steps: *steps,
                     ms,
+                    ratios,
                 });
             }
         }
@@ -419,10 +467,10 @@ mod imp {
         let mut out = String::new();
         let _ = writeln!(
             out,
-            "\nms per step, min / median of {repeats} runs (every step timed); ratio = tumble / peer, of the medians (of the minimums)"
+            "\nms per step, min / median of {repeats} runs; ratio = tumble / peer per run: median (least-most)"
         );
         let header = format!(
-            "{:<16} {:>6} {:>3} {:>5} {:>17} {:>17} {:>17} {:>13} {:>13}",
+            "{:<16} {:>6} {:>3} {:>5} {:>17} {:>17} {:>17} {:>17} {:>17}",
             "scene",
             "bodies",
             "thr",
@@ -439,7 +487,7 @@ mod imp {
             let cell = |(lo, med): (f64, f64)| format!("{lo:.3} / {med:.3}");
             let _ = writeln!(
                 out,
-                "{:<16} {:>6} {:>3} {:>5} {:>17} {:>17} {:>17} {:>13} {:>13}",
+                "{:<16} {:>6} {:>3} {:>5} {:>17} {:>17} {:>17} {:>17} {:>17}",
                 l.scene,
                 l.bodies,
                 l.threads,
@@ -458,12 +506,13 @@ mod imp {
         let mut out = String::from(
             "scene,bodies,threads,steps,repeats,tumble_min_ms,tumble_median_ms,box2d_min_ms,\
              box2d_median_ms,rapier_min_ms,rapier_median_ms,tumble_over_box2d,tumble_over_rapier,\
-             tumble_over_box2d_min,tumble_over_rapier_min\n",
+             tumble_over_box2d_min,tumble_over_rapier_min,tumble_over_box2d_least,\
+             tumble_over_box2d_most,tumble_over_rapier_least,tumble_over_rapier_most\n",
         );
         for l in lines {
             let _ = writeln!(
                 out,
-                "{},{},{},{},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.4},{:.4},{:.4},{:.4}",
+                "{},{},{},{},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4}",
                 csv_field(&l.scene),
                 l.bodies,
                 l.threads,
@@ -478,7 +527,11 @@ mod imp {
                 l.ratio(1),
                 l.ratio(2),
                 l.ratio_min(1),
-                l.ratio_min(2)
+                l.ratio_min(2),
+                l.spread(1).0,
+                l.spread(1).1,
+                l.spread(2).0,
+                l.spread(2).1
             );
         }
         out
@@ -610,7 +663,13 @@ mod imp {
             md,
             "Stages as each engine times them (tumble's `StepProfile`; Box2D's `b2Profile`, \
              grouped as `peers/box2d.rs` says; Rapier reports none here). The stage that holds \
-             tumble back is the one with the largest difference.\n"
+             tumble back is the one with the largest difference. The stages do not hold quite the \
+             same work: Box2D colours the constraint graph inside its collide stage (a contact \
+             that begins touching is added to a colour in `b2Collide`'s serial tail, and keeps \
+             it), tumble in prepare (from scratch when the touching pairs changed, else kept); \
+             Box2D's broad phase is `pairs + refit`, its tree rebuild running beside the collide \
+             stage; Box2D's substep timers are taken on the orchestrating thread and include its \
+             waits, as tumble's are.\n"
         );
         let _ = write!(md, "| scene | threads | engine | step |");
         for s in crate::peers::STAGES {
@@ -671,12 +730,15 @@ mod imp {
             "Written by `tumble-bench compare`. Each engine builds the same scene from the same \
              `SceneDef` (every body, shape, density, friction, restitution, velocity, damping, \
              gravity, dt and substeps) and runs one after another in one process; only each \
-             engine's step call is inside the clock (world building is not). A run times every \
-             step from the first; the table gives the minimum and the median, over {} runs, of a \
-             run's mean ms per step. Ratio = tumble ÷ the peer, of the medians (of the minimums in \
-             brackets); below 1, tumble is faster. The machine is shared with other work, so a \
-             run can be slowed by it: the minimum is the least disturbed number.\n",
-            args.repeats
+             engine's step call is inside the clock (world building is not). A run first steps {} \
+             times untimed (the first steps of a fresh world create every contact and fill every \
+             buffer), then times each of its steps; the engines' order rotates from run to run, \
+             so none always runs first. The table gives the minimum and the median, over {} runs, \
+             of a run's mean ms per step. Ratio = tumble ÷ the peer of the same run, as the median \
+             over the runs with the least and the most in brackets; below 1, tumble is faster. The \
+             machine is shared with other work, so a run can be slowed by it: the spread says how \
+             much. Figures from another host are not comparable with these.\n",
+            args.warmup, args.repeats
         );
         let _ = writeln!(md, "| | |\n|---|---|");
         let _ = writeln!(md, "| CPU | {} |", machine::cpu_model());
@@ -716,7 +778,7 @@ mod imp {
         );
         let _ = writeln!(
             md,
-            "| Rapier | rapier2d {} (feature `parallel`) |",
+            "| Rapier | rapier2d {} (feature `parallel`; its 4-lane SIMD solver is always on, see Settings) |",
             rapier::version()
         );
         let _ = writeln!(
@@ -734,7 +796,10 @@ mod imp {
             let _ = writeln!(md, "> **Warning:** {w}\n");
         }
 
-        let _ = writeln!(md, "## ms per step (min / median)\n");
+        let _ = writeln!(
+            md,
+            "## ms per step (min / median); ratio: median (least–most) of the runs\n"
+        );
         let _ = writeln!(
             md,
             "| scene | bodies | threads | steps | tumble | Box2D | Rapier | tumble ÷ Box2D | tumble ÷ Rapier |"
@@ -804,7 +869,13 @@ mod imp {
              `CoefficientCombineRule::GeometricMean`, which is `sqrt(a·b)` for every pair, \
              exactly tumble's rule (not `Multiply`, which would give `a·b`); restitution \
              `CoefficientCombineRule::Max`. The step runs inside a rayon pool of `threads` \
-             threads (`ThreadPool::install`)."
+             threads (`ThreadPool::install`). Rapier 0.36 solves its contacts 4 at a time \
+             with SIMD (`wide`) in every build; its one SIMD feature, `simd8`, makes that 8 at \
+             a time, but without a `target-cpu` flag for the whole build (which neither tumble, \
+             choosing AVX2 at run time, nor Box2D, built with `-mavx2` by boxdd, needs) its \
+             8-lane type is two 4-lane halves: measured at `38c3da0` on a 2-vCPU AMD EPYC, \
+             interleaved, 3 runs each at 1 thread, `simd8` made Rapier slower (large_pyramid \
+             7.7 → 8.2 ms, smash 19.8 → 21.7 ms, medians), so it stays off."
         );
         md
     }

@@ -6,7 +6,7 @@
 //! `peers`) times the same scenes in tumble, Box2D v3 and Rapier2D; `tumble-bench report` measures
 //! speed against error on the hard cases (docs/accuracy/REPORT.md). Each subcommand lives in its
 //! own module; `main` only parses the command line and turns errors into a message and exit
-//! code 2.
+//! code 2 (1 for a soak that found a non-finite state).
 
 mod compare;
 mod machine;
@@ -76,7 +76,13 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {}", tumble_scene::cli::one_line(e.as_ref()));
-            ExitCode::from(2)
+            ExitCode::from(exit_code(&e))
         }
     }
+}
+
+/// 1 for a soak that ran and found a non-finite state or a body the NaN guard stopped; 2 for
+/// every other error (bad input, bad flags, I/O).
+fn exit_code(e: &anyhow::Error) -> u8 {
+    if e.is::<soak::Unhealthy>() { 1 } else { 2 }
 }

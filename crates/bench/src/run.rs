@@ -65,6 +65,9 @@ struct Report {
     profile: Profile,
     /// Contacts alive after the last step.
     contacts: usize,
+    /// Bodies the engine's NaN guard had to stop over the whole run (CONTRACT.md section 6):
+    /// 0 in a healthy run.
+    non_finite_bodies: u64,
 }
 
 /// One body after the last step. serde_json writes each f32 in the shortest form that reads
@@ -187,6 +190,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
         bodies,
         profile: Profile(profile),
         contacts: world.contact_count(),
+        non_finite_bodies: world.non_finite_bodies(),
     };
     write_report(&report, args.out.as_ref())
 }
@@ -229,7 +233,8 @@ fn write_json(w: impl Write, report: &Report) -> std::io::Result<()> {
         write!(w, "{sep}\n    {}: {}", json(key)?, json(value)?)?;
     }
     writeln!(w, "\n  }},")?;
-    writeln!(w, "  \"contacts\": {}", report.contacts)?;
+    writeln!(w, "  \"contacts\": {},", report.contacts)?;
+    writeln!(w, "  \"non_finite_bodies\": {}", report.non_finite_bodies)?;
     writeln!(w, "}}")?;
     w.flush()
 }

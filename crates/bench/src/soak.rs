@@ -1,12 +1,14 @@
 //! `tumble-bench soak`: a long run of the soak pile (by default 20,000 bodies for 100,000
-//! steps, about half an hour on 2 cores) that reports memory and finiteness as it goes. For a
-//! person to run, not CI; the short version is `tests/tests/soak.rs`.
+//! steps, about half an hour on 2 cores) that reports memory and finiteness as it goes, and
+//! exits 1 if a body's state went non-finite: seen at a checkpoint, or stopped by the step's
+//! NaN guard at any step (`World::non_finite_bodies`, which a frozen body leaves as the only
+//! trace). For a person to run, not CI; the short version is `tests/tests/soak.rs`.
 
 use std::io::Write;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
@@ -63,7 +65,8 @@ struct Summary {
     peak_resident_kb: u64,
     /// Whether every body stayed finite at every checkpoint.
     finite: bool,
-    /// Bodies the numerical guard stopped over the run.
+    /// Bodies the numerical guard stopped over the run (`World::non_finite_bodies`); the
+    /// soak fails unless it is 0.
     guard_fired: u64,
     /// Times a speed cap bit (a body in a substep), over the run.
     speed_caps: u64,
@@ -83,7 +86,38 @@ fn status_kb(field: &str) -> u64 {
         .unwrap_or(0)
 }
 
-/// Runs the soak; exits non-zero (through the error) if any body went non-finite.
+/// Why a soak failed after running to the end: a body's state went non-finite. `main` exits 1
+/// for it (2 is for bad input and other errors).
+#[derive(Debug)]
+pub struct Unhealthy(String);
+
+impl std::fmt::Display for Unhealthy {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for Unhealthy {}
+
+/// The soak's verdict: an [`Unhealthy`] error if a checkpoint saw a non-finite state or the
+/// NaN guard stopped any body over the run.
+fn verdict(finite: bool, guard_fired: u64) -> Result<(), Unhealthy> {
+    if !finite {
+        return Err(Unhealthy(
+            "soak: a body's state went non-finite (see the checkpoints above)".into(),
+        ));
+    }
+    if guard_fired > 0 {
+        return Err(Unhealthy(format!(
+            "soak: the NaN guard had to stop {guard_fired} bodies whose state turned non-finite \
+             (see the checkpoints above)"
+        )));
+    }
+    Ok(())
+}
+
+/// Runs the soak; exits non-zero (through the error, an [`Unhealthy`] one) if any body went
+/// non-finite or the NaN guard stopped any.
 pub fn run(args: &SoakArgs) -> Result<()> {
     let scene = soak_pile(args.bodies as usize);
     let limits = Limits {
@@ -112,11 +146,10 @@ pub fn run(args: &SoakArgs) -> Result<()> {
     let every = (args.steps / args.checkpoints).max(1);
     let start = Instant::now();
     let mut checkpoints = Vec::new();
-    let (mut guard_total, mut guard_since, mut ms_since, mut steps_since) = (0u64, 0u64, 0.0, 0u64);
+    let (mut guard_before, mut ms_since, mut steps_since) = (0u64, 0.0, 0u64);
     for step in 1..=args.steps {
         world.step(scene.dt, scene.substeps);
         let profile = world.profile();
-        guard_since += profile.non_finite as u64;
         ms_since += profile.step_ms;
         steps_since += 1;
         if step.is_multiple_of(every) || step == args.steps {
@@ -127,7 +160,7 @@ pub fn run(args: &SoakArgs) -> Result<()> {
                 peak_resident_kb: status_kb("VmHWM:"),
                 contacts: world.contact_count(),
                 finite: world.is_finite(),
-                guard_fired: guard_since,
+                guard_fired: world.non_finite_bodies() - guard_before,
                 step_ms_mean: ms_since / steps_since as f64,
             };
             bar.suspend(|| {
@@ -143,8 +176,8 @@ pub fn run(args: &SoakArgs) -> Result<()> {
                     c.step_ms_mean
                 );
             });
-            guard_total += guard_since;
-            (guard_since, ms_since, steps_since) = (0, 0.0, 0);
+            guard_before = world.non_finite_bodies();
+            (ms_since, steps_since) = (0.0, 0);
             checkpoints.push(c);
         }
         bar.inc(1);
@@ -157,7 +190,7 @@ pub fn run(args: &SoakArgs) -> Result<()> {
         warm_resident_kb: checkpoints.first().map_or(0, |c| c.resident_kb),
         peak_resident_kb: status_kb("VmHWM:"),
         finite: checkpoints.iter().all(|c| c.finite),
-        guard_fired: guard_total,
+        guard_fired: world.non_finite_bodies(),
         speed_caps: world.speed_cap_count(),
         checkpoints,
     };
@@ -177,8 +210,22 @@ pub fn run(args: &SoakArgs) -> Result<()> {
             .and_then(|()| writeln!(file))
             .with_context(|| format!("cannot write the output file {}", path.display()))?;
     }
-    if !summary.finite {
-        bail!("soak: a body's state went non-finite (see the checkpoints above)");
-    }
+    verdict(summary.finite, summary.guard_fired)?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_soak_fails_when_the_guard_fired_even_if_every_state_is_finite() {
+        assert!(verdict(true, 0).is_ok());
+        let e = verdict(true, 3).unwrap_err().to_string();
+        assert!(e.contains("NaN guard") && e.contains('3'), "{e}");
+        assert!(verdict(false, 0).is_err());
+        // What main turns into exit code 1.
+        let e = anyhow::Error::from(verdict(true, 1).unwrap_err());
+        assert!(e.is::<Unhealthy>());
+    }
 }

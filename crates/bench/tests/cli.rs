@@ -149,6 +149,10 @@ fn a_good_run_writes_the_contract_document() {
         .any(|(b, d)| f32_of(&b["position"][1]) != d.position[1]);
     assert!(moved, "no body moved in 20 steps");
 
+    // CONTRACT.md section 6: how often the engine had to stop a body whose state turned
+    // non-finite over the whole run; a healthy run reports 0.
+    assert_eq!(doc["non_finite_bodies"], 0, "{doc}");
+
     let profile = doc["profile"].as_object().unwrap();
     let mean = profile["step_ms_mean"].as_f64().unwrap();
     assert!(mean.is_finite() && mean >= 0.0, "{mean}");
@@ -388,6 +392,45 @@ fn dt_not_positive() {
         "{\"dt\": -1, \"bodies\": []}",
         &[],
         &["`dt`", "-1", "> 0"],
+    );
+}
+
+#[test]
+fn dt_subnormal() {
+    // 1e-40 is above 0 but subnormal in f32: the step would refuse it and never move.
+    refused_file(
+        "tiny_dt.ron",
+        "(dt: 1e-40, bodies: [])",
+        &[],
+        &["`dt`", "subnormal"],
+    );
+    // A normal dt that --substeps makes a subnormal substep.
+    refused_file(
+        "tiny_substep.ron",
+        "(dt: 2e-38, substeps: 1, bodies: [])",
+        &["--substeps", "8"],
+        &["`dt`", "substep", "fewer substeps"],
+    );
+}
+
+#[test]
+fn mass_or_inertia_too_small_to_invert() {
+    refused_file(
+        "tiny_mass.ron",
+        &one_body("shape: Circle(radius: 1e-20)"),
+        &[],
+        &[
+            "body 0",
+            "`density`",
+            "mass",
+            "raise the density or enlarge the shape",
+        ],
+    );
+    refused_file(
+        "tiny_inertia.ron",
+        &one_body("shape: Circle(radius: 1e-10)"),
+        &[],
+        &["body 0", "`shape`", "rotational inertia", "fixed_rotation"],
     );
 }
 

@@ -203,7 +203,9 @@ fn a_tiny_compare_writes_its_report() {
         "--threads",
         "1",
         "--repeats",
-        "1",
+        "2",
+        "--warmup",
+        "3",
         "--steps",
         "5",
         "--check-steps",
@@ -226,8 +228,31 @@ fn a_tiny_compare_writes_its_report() {
     ] {
         assert!(number(&rows[0][column(&header, name)]) > 0.0, "{name}");
     }
-    let (_, runs) = read_csv(&dir.0.join("compare_runs.csv"));
-    assert_eq!(runs.len(), 3, "one run per engine: {runs:?}");
+    // Each ratio is the median of the runs' ratios, within their spread.
+    for peer in ["box2d", "rapier"] {
+        let at = |name: &str| number(&rows[0][column(&header, name)]);
+        let (least, median, most) = (
+            at(&format!("tumble_over_{peer}_least")),
+            at(&format!("tumble_over_{peer}")),
+            at(&format!("tumble_over_{peer}_most")),
+        );
+        assert!(
+            least <= median && median <= most,
+            "{peer}: {least} {median} {most}"
+        );
+    }
+    let (runs_header, runs) = read_csv(&dir.0.join("compare_runs.csv"));
+    assert_eq!(runs.len(), 6, "one run per engine and repeat: {runs:?}");
+    // In the order they ran: the engines' order rotates, so the second repeat starts with
+    // Box2D, not tumble.
+    let engine = column(&runs_header, "engine");
+    let first_of = |repeat: &str| {
+        runs.iter()
+            .find(|r| r[column(&runs_header, "repeat")] == repeat)
+            .map(|r| r[engine].clone())
+    };
+    assert_eq!(first_of("1").as_deref(), Some("tumble"), "{runs:?}");
+    assert_eq!(first_of("2").as_deref(), Some("box2d"), "{runs:?}");
 
     let md = std::fs::read_to_string(dir.0.join("compare.md")).expect("compare.md");
     for word in [
@@ -237,6 +262,8 @@ fn a_tiny_compare_writes_its_report() {
         "rustc",
         "Cross-check",
         "| pyramid |",
+        "steps 3 times untimed",
+        "rotates",
     ] {
         assert!(md.contains(word), "compare.md lacks {word:?}:\n{md}");
     }

@@ -37,6 +37,22 @@ pub enum SceneError {
         /// The limit in force.
         max: usize,
     },
+    /// The step settings that come with the scene or snapshot are out of range.
+    #[error("{0}")]
+    Settings(#[from] SettingsError),
+}
+
+/// Why [`StepSettings::validate`](crate::StepSettings::validate) refused a setting: values
+/// that would make the step produce non-finite numbers or silently drop a feature.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[error("step setting `{field}` is {value}; allowed: {allowed}")]
+pub struct SettingsError {
+    /// The field of `StepSettings`.
+    pub field: &'static str,
+    /// The value that was given.
+    pub value: String,
+    /// What is allowed instead, and why.
+    pub allowed: String,
 }
 
 /// A polygon that cannot be used as a convex shape.

@@ -30,11 +30,14 @@ mod shape;
 mod solver;
 mod world;
 
-pub use error::{PolygonError, SceneError};
+pub use error::{PolygonError, SceneError, SettingsError};
 pub use glam::Vec2;
 pub use math::{Rot, Transform};
 pub use profile::StepProfile;
-pub use scene::{BodyDef, BodyKind, Limits, MAX_POLYGON_VERTICES, SceneDef, ShapeDef};
+pub use scene::{
+    BodyDef, BodyKind, Limits, MAX_POLYGON_VERTICES, MAX_SOLVER_PASSES, SceneDef, ShapeDef,
+    SolverDef,
+};
 pub use shape::{Aabb, Circle, MassData, Polygon, Shape};
 pub use world::{
     BodyView, ContactView, SpawnWorker, StepSettings, World, WorldSnapshot, default_thread_count,

@@ -34,8 +34,9 @@ pub struct StepProfile {
     pub solver_workers: usize,
     /// Contacts whose manifold was recycled rather than recomputed.
     pub recycled: usize,
-    /// Bodies whose state went non-finite in the step and were stopped at their last finite
-    /// pose (zero unless something upstream is broken).
+    /// Bodies whose state went non-finite in this step and were stopped at their last finite
+    /// pose (zero unless something upstream is broken). This step only: a run's checks want
+    /// `World::non_finite_bodies`, the total over every step.
     pub non_finite: usize,
 }
 

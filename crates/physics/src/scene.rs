@@ -200,6 +200,152 @@ pub struct SceneDef {
     pub steps: u32,
     /// The bodies, in id order.
     pub bodies: Vec<BodyDef>,
+    /// The solver knobs this scene needs, where it needs other than the engine's defaults
+    /// (CONTRACT.md section 5, `solver`).
+    #[serde(default, skip_serializing_if = "SolverDef::is_empty")]
+    pub solver: SolverDef,
+}
+
+/// A scene's `solver` block: every field optional, an absent one keeps the engine's default
+/// (Box2D v3's). The joint and sleep fields are accepted, validated and kept for the joints
+/// and sleeping that will read them; today's step has neither.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SolverDef {
+    /// Contact stiffness (Hz, > 0; default 30); contacts against static bodies get twice it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact_hertz: Option<f32>,
+    /// Damping ratio of the contact spring (>= 0; default 10).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact_damping_ratio: Option<f32>,
+    /// Rigid relax passes per substep (1 to 64; default 1). Friction is solved in them.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub relax_iterations: Option<u32>,
+    /// Approach speed below which nothing bounces (m/s, >= 0; default 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub restitution_threshold: Option<f32>,
+    /// Restitution passes at the end of a step (1 to 64; default 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub restitution_iterations: Option<u32>,
+    /// Fastest that overlap is pushed apart (m/s, > 0; default 3).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_push_speed: Option<f32>,
+    /// Joint stiffness (Hz, >= 0; default 60). Kept for joints.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub joint_hertz: Option<f32>,
+    /// Joint damping ratio (>= 0; default 2). Kept for joints.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub joint_damping_ratio: Option<f32>,
+    /// Speed below which a body counts as resting (m/s, >= 0; default 0.05). Kept for
+    /// sleeping.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sleep_threshold: Option<f32>,
+    /// How long an island rests before it sleeps (s, >= 0; default 0.5). Kept for sleeping.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time_to_sleep: Option<f32>,
+}
+
+/// Most relax or restitution passes a scene may ask for: each is a full pass over every
+/// contact, so 64 already costs 64 times the default's solve.
+pub const MAX_SOLVER_PASSES: u32 = 64;
+
+impl SolverDef {
+    /// Whether no field is set.
+    pub fn is_empty(&self) -> bool {
+        *self == SolverDef::default()
+    }
+
+    /// Sets the fields this block gives on `settings`, leaving the others as they are.
+    pub fn apply(&self, settings: &mut crate::StepSettings) {
+        let set = |field: &mut f32, value: Option<f32>| {
+            if let Some(v) = value {
+                *field = v;
+            }
+        };
+        set(&mut settings.contact_hertz, self.contact_hertz);
+        set(
+            &mut settings.contact_damping_ratio,
+            self.contact_damping_ratio,
+        );
+        set(
+            &mut settings.restitution_threshold,
+            self.restitution_threshold,
+        );
+        set(&mut settings.max_push_speed, self.max_push_speed);
+        if let Some(n) = self.relax_iterations {
+            settings.relax_iterations = n;
+        }
+        if let Some(n) = self.restitution_iterations {
+            settings.restitution_iterations = n;
+        }
+    }
+
+    /// Checks each given field; the error names it as `solver.<field>`.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let err = |field: &str, value: String, allowed: &str| SceneError::Scene {
+            field: format!("solver.{field}"),
+            value,
+            allowed: allowed.to_string(),
+        };
+        let number = |field: &str, value: Option<f32>, zero_ok: bool, what: &str| match value {
+            Some(v) if !(v.is_finite() && (v > 0.0 || (zero_ok && v == 0.0))) => Err(err(
+                field,
+                v.to_string(),
+                &format!(
+                    "a finite number {} ({what}), or leave it out for the default",
+                    if zero_ok { ">= 0" } else { "> 0" }
+                ),
+            )),
+            _ => Ok(()),
+        };
+        number(
+            "contact_hertz",
+            self.contact_hertz,
+            false,
+            "Hz; 0 would switch the soft contact off",
+        )?;
+        number(
+            "contact_damping_ratio",
+            self.contact_damping_ratio,
+            true,
+            "10 is Box2D's",
+        )?;
+        number(
+            "restitution_threshold",
+            self.restitution_threshold,
+            true,
+            "m/s",
+        )?;
+        number("max_push_speed", self.max_push_speed, false, "m/s")?;
+        number("joint_hertz", self.joint_hertz, true, "Hz; 0 is rigid")?;
+        number(
+            "joint_damping_ratio",
+            self.joint_damping_ratio,
+            true,
+            "2 is Box2D's",
+        )?;
+        number("sleep_threshold", self.sleep_threshold, true, "m/s")?;
+        number("time_to_sleep", self.time_to_sleep, true, "seconds")?;
+        let passes = |field: &str, value: Option<u32>, why: &str| match value {
+            Some(n) if n == 0 || n > MAX_SOLVER_PASSES => Err(err(
+                field,
+                n.to_string(),
+                &format!("an integer from 1 to {MAX_SOLVER_PASSES} ({why})"),
+            )),
+            _ => Ok(()),
+        };
+        passes(
+            "relax_iterations",
+            self.relax_iterations,
+            "friction is solved in the relax passes, so 0 would remove it",
+        )?;
+        passes(
+            "restitution_iterations",
+            self.restitution_iterations,
+            "0 would stop every bounce",
+        )?;
+        Ok(())
+    }
 }
 
 impl SceneDef {
@@ -212,6 +358,7 @@ impl SceneDef {
             substeps: default_substeps(),
             steps: default_steps(),
             bodies: Vec::new(),
+            solver: SolverDef::default(),
         }
     }
 
@@ -242,11 +389,38 @@ impl SceneDef {
                 "a finite number > 0 (seconds per step)",
             ));
         }
+        if !self.dt.is_normal() {
+            return Err(scene_err(
+                "dt",
+                format!("{:e} (a subnormal f32, which the step refuses)", self.dt),
+                &format!(
+                    "a finite number > 0 of at least {:e} seconds per step (1/60 is usual)",
+                    f32::MIN_POSITIVE
+                ),
+            ));
+        }
         if self.substeps == 0 || self.substeps > limits.max_substeps {
             return Err(scene_err(
                 "substeps",
                 self.substeps.to_string(),
                 &format!("an integer from 1 to {}", limits.max_substeps),
+            ));
+        }
+        if !(self.dt / self.substeps as f32).is_normal() {
+            return Err(scene_err(
+                "dt",
+                format!(
+                    "{:e}, which makes a substep of dt / {} = {:e} s (a subnormal f32, whose \
+                     inverse overflows; the step refuses it)",
+                    self.dt,
+                    self.substeps,
+                    self.dt / self.substeps as f32
+                ),
+                &format!(
+                    "a dt of at least {:e} s for {} substeps (1/60 is usual), or fewer substeps",
+                    f32::MIN_POSITIVE * self.substeps as f32,
+                    self.substeps
+                ),
             ));
         }
         if self.bodies.len() > limits.max_bodies {
@@ -255,6 +429,7 @@ impl SceneDef {
                 max: limits.max_bodies,
             });
         }
+        self.solver.validate()?;
         for (index, body) in self.bodies.iter().enumerate() {
             validate_body(index, body)?;
         }
@@ -441,16 +616,75 @@ fn validate_body(index: usize, body: &BodyDef) -> Result<(), SceneError> {
             })?;
         }
     }
+    // Validation above has checked the polygon, so this cannot fail.
+    let Ok(shape) = crate::shape::Shape::from_def(&body.shape) else {
+        return Ok(());
+    };
     // The world's step works in f32; shapes beyond this scale lose all precision.
-    let extent = crate::shape::Shape::from_def(&body.shape)
-        .map(|s| s.extent())
-        .unwrap_or(0.0);
+    let extent = shape.extent();
     if extent > 1.0e5 {
         return Err(err(
             "shape",
             format!("extent {extent} m"),
             "shapes up to 100 km across",
         ));
+    }
+    if body.kind == BodyKind::Dynamic {
+        // The step divides by the mass and the rotational inertia: each must be a normal f32
+        // (not zero, not subnormal, not infinite), or its inverse is infinite or zero and the
+        // body's state turns non-finite in its first contact.
+        let md = shape.mass(body.density);
+        let invertible = |x: f32| x.is_normal() && (1.0 / x).is_normal();
+        if !invertible(md.mass) {
+            return Err(err(
+                "density",
+                format!(
+                    "{}, which with this shape (area {:e} m²) gives a mass of {:e} kg, which \
+                     f32 cannot invert",
+                    body.density,
+                    md.mass / body.density,
+                    md.mass
+                ),
+                &format!(
+                    "a density and size whose mass (density × area) lies between {:e} and {:e} \
+                     kg: {} the density or {} the shape",
+                    f32::MIN_POSITIVE,
+                    1.0 / f32::MIN_POSITIVE,
+                    if md.mass.is_finite() {
+                        "raise"
+                    } else {
+                        "lower"
+                    },
+                    if md.mass.is_finite() {
+                        "enlarge"
+                    } else {
+                        "shrink"
+                    },
+                ),
+            ));
+        }
+        let rotates = !body.fixed_rotation;
+        if rotates && !invertible(md.inertia) {
+            return Err(err(
+                "shape",
+                format!(
+                    "of largest radius {extent:e} m, whose rotational inertia at density {} \
+                     is {:e} kg·m², which f32 cannot invert",
+                    body.density, md.inertia
+                ),
+                &format!(
+                    "a shape and density whose rotational inertia lies between {:e} and {:e} \
+                     kg·m²: {}, or set `fixed_rotation: true`",
+                    f32::MIN_POSITIVE,
+                    1.0 / f32::MIN_POSITIVE,
+                    if md.inertia.is_finite() {
+                        "enlarge the shape or raise the density"
+                    } else {
+                        "shrink the shape or lower the density"
+                    },
+                ),
+            ));
+        }
     }
     Ok(())
 }

@@ -17,7 +17,7 @@ use web_time::Instant;
 
 use crate::collision::broad_phase::BroadPhase;
 use crate::collision::{Manifold, collide};
-use crate::error::SceneError;
+use crate::error::{SceneError, SettingsError};
 use crate::math::{Rot, Transform};
 use crate::profile::StepProfile;
 use crate::scene::{BodyDef, BodyKind, Limits, SceneDef};
@@ -84,6 +84,85 @@ impl Default for StepSettings {
             contact_recycling: true,
             simd: true,
         }
+    }
+}
+
+impl StepSettings {
+    /// Checks every knob for a value the step cannot use: a non-finite or negative number
+    /// (gravity, contact hertz, damping ratio, push-out speed, restitution threshold) turns
+    /// the state non-finite or pulls bodies together; zero relax passes silently drop
+    /// friction (friction is solved in the relax pass); zero restitution passes drop every
+    /// bounce; a speed cap that is not a finite number > 0 stops every body or caps nothing.
+    /// [`World::from_scene`] and [`World::from_snapshot`] call it; so should anything that
+    /// takes settings from outside (flags, sliders, files) before
+    /// [`World::settings_mut`].
+    pub fn validate(&self) -> Result<(), SettingsError> {
+        let err = |field: &'static str, value: String, allowed: &str| SettingsError {
+            field,
+            value,
+            allowed: allowed.to_string(),
+        };
+        if !self.gravity.is_finite() {
+            return Err(err(
+                "gravity",
+                format!("{:?}", <[f32; 2]>::from(self.gravity)),
+                "two finite numbers (m/s²)",
+            ));
+        }
+        let non_negative = |field: &'static str, v: f32, unit: &str| {
+            if v.is_finite() && v >= 0.0 {
+                Ok(())
+            } else {
+                Err(err(
+                    field,
+                    v.to_string(),
+                    &format!("a finite number >= 0 ({unit})"),
+                ))
+            }
+        };
+        non_negative(
+            "contact_hertz",
+            self.contact_hertz,
+            "Hz; Box2D's default is 30",
+        )?;
+        non_negative(
+            "contact_damping_ratio",
+            self.contact_damping_ratio,
+            "Box2D's default is 10",
+        )?;
+        non_negative(
+            "max_push_speed",
+            self.max_push_speed,
+            "m/s; Box2D's default is 3",
+        )?;
+        non_negative(
+            "restitution_threshold",
+            self.restitution_threshold,
+            "m/s; Box2D's default is 1",
+        )?;
+        if !(self.max_linear_speed.is_finite() && self.max_linear_speed > 0.0) {
+            return Err(err(
+                "max_linear_speed",
+                self.max_linear_speed.to_string(),
+                "a finite number > 0 (m/s; 0 would stop every body; Box2D's default is 400)",
+            ));
+        }
+        if self.relax_iterations == 0 {
+            return Err(err(
+                "relax_iterations",
+                "0".into(),
+                "1 or more (friction is solved in the relax pass, so 0 would silently remove \
+                 it; Box2D's default is 1)",
+            ));
+        }
+        if self.restitution_iterations == 0 {
+            return Err(err(
+                "restitution_iterations",
+                "0".into(),
+                "1 or more (0 would silently remove every bounce; Box2D's default is 1)",
+            ));
+        }
+        Ok(())
     }
 }
 
@@ -255,6 +334,10 @@ pub struct WorldSnapshot {
     contacts: Vec<Contact>,
     steps: u64,
     speed_caps: u64,
+    /// Bodies the numerical guard has stopped (see [`World::non_finite_bodies`]); absent
+    /// from snapshots written before it was counted, which read as 0.
+    #[serde(default)]
+    non_finite_bodies: u64,
 }
 
 impl WorldSnapshot {
@@ -294,6 +377,8 @@ pub struct World {
     /// Set by finalize for a body whose state went non-finite (then counted and cleared).
     guarded: Vec<bool>,
     guarded_last_step: usize,
+    /// Every body the guard has stopped, over the world's whole life (snapshots keep it).
+    non_finite_bodies: u64,
     tree_dirty: bool,
     broad_phase: BroadPhase,
     contacts: Vec<Contact>,
@@ -343,6 +428,7 @@ impl World {
             moved_rank: Vec::new(),
             guarded: Vec::new(),
             guarded_last_step: 0,
+            non_finite_bodies: 0,
             tree_dirty: true,
             broad_phase: BroadPhase::default(),
             contacts: Vec::new(),
@@ -365,10 +451,13 @@ impl World {
     /// order. The scene's `dt` and `substeps` are the caller's to pass to [`World::step`].
     pub fn from_scene(scene: &SceneDef, limits: &Limits) -> Result<World, SceneError> {
         scene.validate(limits)?;
-        let mut world = World::new(StepSettings {
+        let mut settings = StepSettings {
             gravity: Vec2::from(scene.gravity),
             ..StepSettings::default()
-        });
+        };
+        scene.solver.apply(&mut settings);
+        settings.validate()?;
+        let mut world = World::new(settings);
         world.reserve(scene.bodies.len());
         for (i, body) in scene.bodies.iter().enumerate() {
             world.add_body(body).map_err(|e| match e {
@@ -515,6 +604,14 @@ impl World {
         }
     }
 
+    /// Lets the solver run on every thread of [`World::set_thread_count`] even where there
+    /// are more threads than cores (by default it stops at the cores: workers beyond them
+    /// only wait on each other). The result is the same either way; tests of determinism use
+    /// it to run 3 and 4 real workers on a 2-core machine.
+    pub fn set_workers_beyond_cores(&mut self, allow: bool) {
+        self.solver.workers_beyond_cores = allow;
+    }
+
     /// Worker threads the step uses.
     pub fn thread_count(&self) -> usize {
         self.threads
@@ -538,6 +635,16 @@ impl World {
     /// How often a body's speed was clamped to the caps, over all steps.
     pub fn speed_cap_count(&self) -> u64 {
         self.speed_caps
+    }
+
+    /// How many times, over the world's whole life (kept by [`World::snapshot`]), the
+    /// numerical guard of the step had to stop a body whose state turned non-finite (NaN or
+    /// infinite): the body keeps its last finite pose and loses its velocity, so
+    /// [`World::is_finite`] stays true and only this count tells. A healthy world reports 0;
+    /// every "stays finite" check should require it. [`StepProfile::non_finite`] counts the
+    /// last step only.
+    pub fn non_finite_bodies(&self) -> u64 {
+        self.non_finite_bodies
     }
 
     /// One body's state.
@@ -605,12 +712,15 @@ impl World {
             contacts: self.contacts.clone(),
             steps: self.steps,
             speed_caps: self.speed_caps,
+            non_finite_bodies: self.non_finite_bodies,
         }
     }
 
     /// A world in the state of `snapshot`, on all cores. Fails if the snapshot's arrays do
-    /// not agree in length or its contacts name bodies it lacks (a corrupt or foreign file).
+    /// not agree in length or its contacts name bodies it lacks (a corrupt or foreign file),
+    /// or if its settings are out of range ([`StepSettings::validate`]).
     pub fn from_snapshot(snapshot: WorldSnapshot) -> Result<World, SceneError> {
+        snapshot.settings.validate()?;
         let n = snapshot.sims.len();
         let lengths = [
             snapshot.shapes.len(),
@@ -665,6 +775,7 @@ impl World {
         world.contact_keys = world.contacts.iter().map(ContactKey::of).collect();
         world.steps = snapshot.steps;
         world.speed_caps = snapshot.speed_caps;
+        world.non_finite_bodies = snapshot.non_finite_bodies;
         world.tree_dirty = true;
         Ok(world)
     }
@@ -675,8 +786,10 @@ impl World {
         if inv > 0.0 { 1.0 / inv } else { 0.0 }
     }
 
-    /// Whether every body's pose and velocities are finite numbers (what the soak, the tests
-    /// and the numerical guard's callers check).
+    /// Whether every body's pose and velocities are finite numbers now. The step's
+    /// numerical guard keeps them so (it stops a body that turns non-finite), so on its own
+    /// this cannot fail after a step: checks of a run require
+    /// [`World::non_finite_bodies`] to be 0 as well.
     pub fn is_finite(&self) -> bool {
         self.sims.iter().zip(&self.states).all(|(sim, st)| {
             sim.xf.p.is_finite()
@@ -781,10 +894,16 @@ impl World {
     }
 
     /// Advances the world by `dt` seconds in `substeps` solver substeps.
+    ///
+    /// Does nothing (no step is counted, the profile is zeroed) for a `dt` that
+    /// [`World::steppable`] refuses: not finite, not > 0, subnormal, or so small that one
+    /// substep `dt / substeps` is subnormal (its inverse, the substep rate, would overflow to
+    /// infinity and turn the state non-finite); nor for `substeps == 0`. Scene validation
+    /// refuses such a scene's `dt` with a message.
     pub fn step(&mut self, dt: f32, substeps: u32) {
         let start = Instant::now();
         let mut profile = StepProfile::default();
-        if !(dt > 0.0 && dt.is_finite()) || substeps == 0 {
+        if !World::steppable(dt, substeps) {
             self.profile = profile;
             return;
         }
@@ -816,6 +935,12 @@ impl World {
         profile.non_finite = self.guarded_last_step;
         profile.step_ms = ms(start);
         self.profile = profile;
+    }
+
+    /// Whether [`World::step`] steps with this `dt` and `substeps`: `dt` a finite, normal
+    /// (not subnormal) number > 0, at least one substep, and `dt / substeps` normal too.
+    pub fn steppable(dt: f32, substeps: u32) -> bool {
+        dt > 0.0 && dt.is_normal() && substeps > 0 && (dt / substeps as f32).is_normal()
     }
 
     /// Broad phase: rebuild the tree if a fat box changed, then find the new pairs of every
@@ -1153,6 +1278,7 @@ impl World {
             guarded += usize::from(std::mem::take(g));
         }
         self.guarded_last_step = guarded;
+        self.non_finite_bodies += guarded as u64;
     }
 }
 
@@ -1266,6 +1392,210 @@ mod tests {
         w.states[1].w = 0.0;
         w.sims[1].xf.p.y = f32::NEG_INFINITY;
         assert!(!w.is_finite());
+    }
+
+    /// One ball in the air, alone: nothing it touches can carry a bad number back to it.
+    fn lone_ball() -> World {
+        let mut w = World::new(StepSettings::default());
+        w.add_body(&BodyDef::new(ShapeDef::Circle { radius: 0.5 }).at(0.0, 10.0))
+            .unwrap();
+        w
+    }
+
+    #[test]
+    fn the_guard_counts_every_body_it_stops_and_snapshots_keep_the_count() {
+        let mut w = lone_ball();
+        for _ in 0..3 {
+            w.step(1.0 / 60.0, 4);
+        }
+        assert_eq!(w.non_finite_bodies(), 0);
+        // set_velocity refuses non-finite input, so the state is written directly: what a
+        // broken upstream (a bad solve, a bad mass) would leave.
+        w.states[0].v = Vec2::new(f32::NAN, 1.0);
+        let before = w.body(0).position;
+        w.step(1.0 / 60.0, 4);
+        // The guard hid it: the state is finite again, the body kept its last finite pose.
+        assert!(w.is_finite());
+        assert_eq!(w.body(0).position, before);
+        assert_eq!(w.profile().non_finite, 1);
+        assert_eq!(w.non_finite_bodies(), 1);
+        // Later healthy steps forget it in the profile but not in the total.
+        for _ in 0..10 {
+            w.step(1.0 / 60.0, 4);
+        }
+        assert_eq!(w.profile().non_finite, 0);
+        assert_eq!(w.non_finite_bodies(), 1);
+        // Through JSON and back, the count survives, and keeps counting from there.
+        let text = serde_json::to_string(&w.snapshot()).unwrap();
+        let mut restored = World::from_snapshot(serde_json::from_str(&text).unwrap()).unwrap();
+        assert_eq!(restored.non_finite_bodies(), 1);
+        restored.states[0].w = f32::NAN;
+        restored.step(1.0 / 60.0, 4);
+        assert!(restored.is_finite());
+        assert_eq!(restored.non_finite_bodies(), 2);
+    }
+
+    #[test]
+    fn a_snapshot_without_the_count_loads_as_zero() {
+        let mut value = serde_json::to_value(lone_ball().snapshot()).unwrap();
+        let fields = value.as_object_mut().unwrap();
+        assert!(fields.remove("non_finite_bodies").is_some());
+        let snap: WorldSnapshot = serde_json::from_value(value).unwrap();
+        assert_eq!(World::from_snapshot(snap).unwrap().non_finite_bodies(), 0);
+    }
+
+    #[test]
+    fn step_refuses_a_subnormal_or_non_positive_dt() {
+        let mut w = lone_ball();
+        let hash = w.state_hash();
+        let tiny = f32::MIN_POSITIVE / 4.0;
+        assert!(tiny > 0.0 && !tiny.is_normal());
+        // A subnormal dt, a normal dt whose substep is subnormal, zero, negative, NaN,
+        // infinity, and no substeps: none steps.
+        for (dt, substeps) in [
+            (tiny, 1),
+            (f32::MIN_POSITIVE, 4),
+            (0.0, 4),
+            (-1.0 / 60.0, 4),
+            (f32::NAN, 4),
+            (f32::INFINITY, 4),
+            (1.0 / 60.0, 0),
+        ] {
+            assert!(!World::steppable(dt, substeps), "{dt} {substeps}");
+            w.step(dt, substeps);
+            assert_eq!(w.step_count(), 0, "{dt} {substeps}");
+            assert_eq!(w.state_hash(), hash, "{dt} {substeps}");
+        }
+        // The smallest dt it takes runs and stays finite.
+        assert!(World::steppable(f32::MIN_POSITIVE, 1));
+        w.step(f32::MIN_POSITIVE, 1);
+        assert_eq!(w.step_count(), 1);
+        assert!(w.is_finite());
+        assert_eq!(w.non_finite_bodies(), 0);
+    }
+
+    #[test]
+    fn step_settings_validate_refuses_each_bad_knob() {
+        assert_eq!(StepSettings::default().validate(), Ok(()));
+        let refused = |change: fn(&mut StepSettings), field: &str, words: &[&str]| {
+            let mut s = StepSettings::default();
+            change(&mut s);
+            let e = s.validate().expect_err(field);
+            assert_eq!(e.field, field);
+            let text = e.to_string();
+            assert!(text.contains(&format!("`{field}`")), "{text}");
+            for w in words {
+                assert!(text.contains(w), "{text} lacks {w}");
+            }
+        };
+        refused(
+            |s| s.relax_iterations = 0,
+            "relax_iterations",
+            &["friction"],
+        );
+        refused(
+            |s| s.restitution_iterations = 0,
+            "restitution_iterations",
+            &["1 or more"],
+        );
+        refused(|s| s.contact_hertz = -1.0, "contact_hertz", &["-1", ">= 0"]);
+        refused(|s| s.contact_hertz = f32::NAN, "contact_hertz", &["NaN"]);
+        refused(
+            |s| s.contact_damping_ratio = -0.5,
+            "contact_damping_ratio",
+            &["-0.5"],
+        );
+        refused(
+            |s| s.contact_damping_ratio = f32::INFINITY,
+            "contact_damping_ratio",
+            &["inf"],
+        );
+        refused(|s| s.max_push_speed = -3.0, "max_push_speed", &["-3"]);
+        refused(|s| s.max_push_speed = f32::NAN, "max_push_speed", &["NaN"]);
+        refused(
+            |s| s.restitution_threshold = -1.0,
+            "restitution_threshold",
+            &["-1"],
+        );
+        refused(
+            |s| s.restitution_threshold = f32::INFINITY,
+            "restitution_threshold",
+            &["inf"],
+        );
+        refused(|s| s.max_linear_speed = -1.0, "max_linear_speed", &["> 0"]);
+        refused(|s| s.max_linear_speed = 0.0, "max_linear_speed", &["> 0"]);
+        refused(
+            |s| s.max_linear_speed = f32::INFINITY,
+            "max_linear_speed",
+            &["inf"],
+        );
+        refused(|s| s.gravity.y = f32::NAN, "gravity", &["finite"]);
+        // Zero is a usable value where it means "off": rigid contacts, no damping, no push-out,
+        // every approach bounces.
+        let zeros = StepSettings {
+            contact_hertz: 0.0,
+            contact_damping_ratio: 0.0,
+            max_push_speed: 0.0,
+            restitution_threshold: 0.0,
+            ..StepSettings::default()
+        };
+        assert_eq!(zeros.validate(), Ok(()));
+    }
+
+    #[test]
+    fn a_snapshot_with_bad_settings_is_refused() {
+        let mut snap = ball_on_ground().snapshot();
+        snap.settings.relax_iterations = 0;
+        let e = World::from_snapshot(snap).err().expect("refused");
+        assert!(e.to_string().contains("relax_iterations"), "{e}");
+    }
+
+    #[test]
+    fn a_body_whose_mass_or_inertia_f32_cannot_invert_is_refused() {
+        let mut w = ball_on_ground();
+        let circle = |r: f32| BodyDef::new(ShapeDef::Circle { radius: r });
+        // Radius 1e-20 m: mass π·1e-40 kg is subnormal, its inverse infinite.
+        let e = w.add_body(&circle(1e-20)).unwrap_err().to_string();
+        for word in [
+            "body 2",
+            "`density`",
+            "mass",
+            "raise the density",
+            "enlarge",
+        ] {
+            assert!(e.contains(word), "{e} lacks {word}");
+        }
+        // A subnormal density: the same.
+        let e = w
+            .add_body(&circle(1.0).density(1e-40))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("`density`") && e.contains("mass"), "{e}");
+        // A mass too large for f32.
+        let e = w
+            .add_body(&circle(1000.0).density(1e35))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("lower the density"), "{e}");
+        // Radius 1e-10 m: the mass (3e-20 kg) is fine, the inertia (1.6e-40) underflows.
+        let e = w.add_body(&circle(1e-10)).unwrap_err().to_string();
+        for word in ["body 2", "`shape`", "rotational inertia", "fixed_rotation"] {
+            assert!(e.contains(word), "{e} lacks {word}");
+        }
+        // A body that cannot rotate needs no inverse inertia, and one refused body leaves no
+        // trace: ids continue from 2.
+        assert_eq!(w.add_body(&circle(1e-10).fixed_rotation(true)), Ok(2));
+        // Static bodies have no mass to invert.
+        assert!(w.add_body(&circle(1e-20).kind(BodyKind::Static)).is_ok());
+        // From a scene, the index is the body's place in it.
+        let mut scene = SceneDef::new("tiny");
+        scene.push(circle(1.0));
+        scene.push(circle(1e-20));
+        let e = World::from_scene(&scene, &Limits::default())
+            .err()
+            .expect("refused")
+            .to_string();
+        assert!(e.starts_with("body 1: field `density`"), "{e}");
     }
 
     #[test]

@@ -595,6 +595,48 @@ mod tests {
     }
 
     #[test]
+    fn a_solver_block_sets_the_step_settings_and_is_validated() {
+        use tumble_physics::{Limits, World};
+        let text = r#"{"bodies": [], "substeps": 8,
+            "solver": {"contact_hertz": 60, "relax_iterations": 2, "joint_hertz": 50}}"#;
+        let scene = json(text, "stiff.json").unwrap_or_else(|e| panic!("{e}"));
+        let world = World::from_scene(&scene, &Limits::default()).unwrap();
+        let s = world.settings();
+        assert_eq!((s.contact_hertz, s.relax_iterations), (60.0, 2));
+        // Absent fields keep the defaults (Box2D's).
+        assert_eq!((s.contact_damping_ratio, s.max_push_speed), (10.0, 3.0));
+        // A typo lists the allowed fields; a bad value names the field and the fix.
+        expect_err(
+            json(
+                r#"{"bodies": [], "solver": {"contact_herz": 60}}"#,
+                "typo.json",
+            ),
+            &[
+                "typo.json:1:",
+                "contact_herz",
+                "`contact_hertz`",
+                "`time_to_sleep`",
+            ],
+        );
+        for (field, value, words) in [
+            ("relax_iterations", "0", "remove it"),
+            ("contact_hertz", "0", "> 0"),
+            ("max_push_speed", "-1", "> 0"),
+            ("restitution_iterations", "65", "1 to 64"),
+            ("time_to_sleep", "-0.5", ">= 0"),
+        ] {
+            let text = format!(r#"{{"bodies": [], "solver": {{"{field}": {value}}}}}"#);
+            expect_err(
+                json(&text, "bad.json"),
+                &["bad.json", &format!("solver.{field}"), value, words],
+            );
+        }
+        // The built-in scene that needs stiffer contacts says so.
+        let p200 = builtin::build("pyramid_200").unwrap();
+        assert_eq!((p200.substeps, p200.solver.contact_hertz), (8, Some(60.0)));
+    }
+
+    #[test]
     fn unknown_field_lists_the_allowed_fields() {
         let text = one_body_ron("shape: Circle(radius: 1.0), frictoin: 0.3");
         let m = expect_err(
@@ -828,6 +870,69 @@ mod tests {
             json("{\"dt\": -0.01, \"bodies\": []}", "dt.json"),
             &["dt.json", "`dt`", "-0.01", "> 0"],
         );
+    }
+
+    #[test]
+    fn dt_must_not_be_subnormal() {
+        // Above 0 but subnormal in f32: the step would refuse it and the scene never move.
+        expect_err(
+            ron("(dt: 1e-40, bodies: [])", "dt.ron"),
+            &["dt.ron", "`dt`", "subnormal", "at least 1.1754944e-38"],
+        );
+        // Normal, but a substep of it is not.
+        expect_err(
+            json(
+                "{\"dt\": 2e-38, \"substeps\": 8, \"bodies\": []}",
+                "dt.json",
+            ),
+            &["dt.json", "`dt`", "substep", "fewer substeps"],
+        );
+        ron("(dt: 1e-30, substeps: 8, bodies: [])", "small.ron").unwrap();
+    }
+
+    #[test]
+    fn a_dynamic_body_needs_a_mass_and_inertia_f32_can_invert() {
+        expect_err(
+            ron(
+                "(bodies: [(shape: Circle(radius: 1.0)), (shape: Circle(radius: 1e-20))])",
+                "tiny.ron",
+            ),
+            &[
+                "tiny.ron",
+                "body 1",
+                "`density`",
+                "mass",
+                "raise the density",
+            ],
+        );
+        expect_err(
+            ron(
+                "(bodies: [(density: 1e36, shape: Box(half_extents: (100.0, 100.0)))])",
+                "heavy.ron",
+            ),
+            &["heavy.ron", "body 0", "`density`", "lower the density"],
+        );
+        expect_err(
+            ron("(bodies: [(shape: Circle(radius: 1e-10))])", "spin.ron"),
+            &[
+                "spin.ron",
+                "body 0",
+                "`shape`",
+                "rotational inertia",
+                "fixed_rotation",
+            ],
+        );
+        // Without rotation only the mass matters; static bodies have none to invert.
+        ron(
+            "(bodies: [(fixed_rotation: true, shape: Circle(radius: 1e-10))])",
+            "fixed.ron",
+        )
+        .unwrap();
+        ron(
+            "(bodies: [(kind: Static, shape: Circle(radius: 1e-20))])",
+            "static.ron",
+        )
+        .unwrap();
     }
 
     #[test]

@@ -506,6 +506,7 @@ pub fn browser_tests(root: &Path) -> Result<(), String> {
             .current_dir(&tests),
         "npm ci (tests/browser: playwright-core)",
     )?;
+    let native_hash = native_state_hash(root)?;
     let isolated = Server::start(&bundle, true)?;
     let plain = Server::start(&bundle, false)?;
     let out = target_dir(root).join("browser-tests");
@@ -524,9 +525,40 @@ pub fn browser_tests(root: &Path) -> Result<(), String> {
             .current_dir(&tests)
             .env("TUMBLE_URL", isolated.url())
             .env("TUMBLE_URL_NOT_ISOLATED", plain.url())
-            .env("TUMBLE_OUT", &out),
+            .env("TUMBLE_OUT", &out)
+            .env("TUMBLE_NATIVE_HASH", native_hash),
         "node --test tests/browser/web.test.mjs",
     )
+}
+
+/// The state hash of `falling_circles` after 120 steps on one thread, from the native runner
+/// (the browser tests check that the page gets the same at 1 and 2 threads).
+fn native_state_hash(root: &Path) -> Result<String, String> {
+    let out = Command::new(cargo())
+        .args(["run", "--quiet", "-j2", "-p", "tumble-bench", "--"])
+        .args(["run", "falling_circles", "--steps", "120", "--threads", "1"])
+        .current_dir(root)
+        .output()
+        .map_err(|e| format!("cannot run tumble-bench for the native state hash: {e}"))?;
+    if !out.status.success() {
+        return Err(format!(
+            "tumble-bench run falling_circles failed: {}",
+            String::from_utf8_lossy(&out.stderr)
+        ));
+    }
+    let json = String::from_utf8_lossy(&out.stdout);
+    state_hash_of(&json).ok_or_else(|| format!("no state_hash in tumble-bench's output: {json}"))
+}
+
+/// The value of `"state_hash": "<16 hex digits>"` in a runner's JSON.
+fn state_hash_of(json: &str) -> Option<String> {
+    let rest = &json[json.find("\"state_hash\"")? + "\"state_hash\"".len()..];
+    let hash: String = rest
+        .trim_start_matches([' ', ':', '"'])
+        .chars()
+        .take_while(char::is_ascii_hexdigit)
+        .collect();
+    (hash.len() == 16).then_some(hash)
 }
 
 /// Node and npm: Debian's when missing (this image has NodeSource's).
@@ -566,6 +598,14 @@ mod tests {
         assert_eq!(mime_type(Path::new("x.wasm")), "application/wasm");
         assert!(mime_type(Path::new("x.js")).starts_with("text/javascript"));
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn reads_the_state_hash_of_the_runners_output() {
+        let json = "{\"steps\": 120,\n  \"state_hash\": \"74b329451317af4e\", \"x\": 1}";
+        assert_eq!(state_hash_of(json).as_deref(), Some("74b329451317af4e"));
+        assert_eq!(state_hash_of("{\"state_hash\": \"12\"}"), None);
+        assert_eq!(state_hash_of("{}"), None);
     }
 
     #[test]

@@ -4,6 +4,7 @@
 
 use egui::{Color32, RichText};
 use glam::Vec2;
+use tumble_physics::{StepSettings, World};
 
 use crate::state::{MainMenu, Shared, Simulation, Transition};
 
@@ -46,6 +47,16 @@ pub fn simulation_ui(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared
         Vec2::new(free.max.x, free.max.y) * ppp,
     );
     transition
+}
+
+/// The sliders stay in range, but a typed gravity may not be a number the step can use: if
+/// the settings the panel left fail [`StepSettings::validate`], puts back `before` (this
+/// frame's start) and says why in a toast.
+fn keep_valid_settings(world: &mut World, before: StepSettings, shared: &mut Shared) {
+    if let Err(e) = world.settings().validate() {
+        *world.settings_mut() = before;
+        shared.toast(e.to_string());
+    }
 }
 
 fn controls(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared, out: &mut Transition) {
@@ -93,6 +104,7 @@ fn controls(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared, out: &m
 
     ui.separator();
     let cores = tumble_physics::default_thread_count().max(1);
+    let before = *st.sim.world.settings();
     egui::Grid::new("solver")
         .num_columns(2)
         .spacing([8.0, 4.0])
@@ -115,7 +127,8 @@ fn controls(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared, out: &m
 
             let settings = st.sim.world.settings_mut();
             ui.label("Relax iterations");
-            ui.add(egui::Slider::new(&mut settings.relax_iterations, 0..=8));
+            ui.add(egui::Slider::new(&mut settings.relax_iterations, 1..=8))
+                .on_hover_text("Friction is solved in the relax pass, so there is at least one.");
             ui.end_row();
 
             ui.label("Contact hertz");
@@ -162,6 +175,7 @@ fn controls(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared, out: &m
             });
             ui.end_row();
         });
+    keep_valid_settings(&mut st.sim.world, before, shared);
     if let Some(note) = &shared.threads_note {
         ui.add(
             egui::Label::new(
@@ -177,6 +191,7 @@ fn controls(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared, out: &m
         let settings = st.sim.world.settings_mut();
         *settings = tumble_physics::StepSettings::default();
         settings.gravity = Vec2::new(g[0], g[1]);
+        st.sim.scene.solver.apply(settings);
         st.sim.substeps = st.sim.scene.substeps;
     }
 
@@ -245,6 +260,14 @@ fn controls(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared, out: &m
         ("time", format!("{:.2} s", st.sim.time())),
         ("backend", shared.backend.clone()),
     ];
+    // Bodies the NaN guard stopped since the scene started (0 unless something is broken):
+    // such a body freezes where it was, so only this count tells.
+    let stopped = st.sim.world.non_finite_bodies();
+    let mut stopped_text = RichText::new(stopped.to_string()).monospace();
+    if stopped > 0 {
+        stopped_text = stopped_text.color(Color32::from_rgb(255, 120, 90));
+    }
+    let stopped_row = ("non-finite stopped", stopped_text);
     egui::Grid::new("counters")
         .num_columns(2)
         .striped(true)
@@ -253,6 +276,7 @@ fn controls(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared, out: &m
             let all = rows
                 .into_iter()
                 .map(plain)
+                .chain(std::iter::once(stopped_row))
                 .chain(case)
                 .chain(error_rows.into_iter().map(plain));
             for (k, v) in all {
@@ -324,4 +348,29 @@ fn replay_ui(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared) {
             st.load_snapshot(shared);
         }
     });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::settings::Settings;
+
+    #[test]
+    fn settings_the_step_cannot_use_are_put_back_with_a_message() {
+        let mut shared = Shared::new(Settings::default(), Vec2::new(800.0, 600.0));
+        let mut world = World::new(StepSettings::default());
+        let before = *world.settings();
+        // A usable change stays.
+        world.settings_mut().gravity.y = -3.0;
+        keep_valid_settings(&mut world, before, &mut shared);
+        assert_eq!(world.settings().gravity.y, -3.0);
+        assert!(shared.toast.is_none());
+        // A gravity typed as "inf" does not.
+        let before = *world.settings();
+        world.settings_mut().gravity.x = f32::INFINITY;
+        keep_valid_settings(&mut world, before, &mut shared);
+        assert_eq!(*world.settings(), before);
+        let (text, _) = shared.toast.expect("a message");
+        assert!(text.contains("`gravity`"), "{text}");
+    }
 }

@@ -149,7 +149,13 @@ pub fn bench_start(scene: &str, threads: usize, steps: u32) -> Result<(), JsValu
                 sum / f64::from(steps)
             }
         };
-        let mut json = format!("{{\"step_ms_mean\": {}", mean(total));
+        // The state after the run, hashed as `tumble-bench run` reports it natively: the
+        // browser tests check the two are equal, at 1 and at 2 threads.
+        let mut json = format!(
+            "{{\"step_ms_mean\": {}, \"state_hash\": \"{:016x}\"",
+            mean(total),
+            world.state_hash()
+        );
         for (name, sum) in stages {
             json.push_str(&format!(", \"{name}_ms_mean\": {}", mean(sum)));
         }
@@ -168,7 +174,8 @@ pub fn bench_start(scene: &str, threads: usize, steps: u32) -> Result<(), JsValu
 static BENCH: wasm_sync::Mutex<Option<String>> = wasm_sync::Mutex::new(None);
 
 /// The result of [`bench_start`], as JSON: the mean ms per step and per stage, as
-/// `tumble-bench run` writes them in its `profile`; `undefined` while it runs.
+/// `tumble-bench run` writes them in its `profile`, and the final `state_hash`; `undefined`
+/// while it runs.
 #[wasm_bindgen(js_name = benchResult)]
 pub fn bench_result() -> Option<String> {
     BENCH.lock().ok().and_then(|r| r.clone())

@@ -26,6 +26,12 @@ pub trait Peer {
     fn stages(&mut self) -> Vec<(&'static str, f64)> {
         Vec::new()
     }
+    /// Bodies the engine had to stop so far because their state turned non-finite, hiding
+    /// the bad numbers from the poses (tumble's NaN guard, `World::non_finite_bodies`); 0 for
+    /// an engine without such a guard, whose bad numbers show in its poses.
+    fn non_finite_bodies(&mut self) -> u64 {
+        0
+    }
 }
 
 /// Stage names comparable across engines, in step order: finding new pairs (and refitting

@@ -498,10 +498,11 @@ fn pyramid_200() -> Result<Case> {
         steps: 300,
         setup: "Built-in `pyramid_200`: 200 rows, 20100 unit boxes, friction 0.6, on a static \
                 ground. 300 steps (5 s): shortened from the scene's 500, because a collapse \
-                shows within 100 steps (2 m sideways at the defaults) and a standing pyramid \
-                has settled by step 150 (at 16 substeps and 120 Hz its sag at 150, 300 and \
-                500 steps agrees within 3 mm, and its sideways spread stays between 0.22 and \
-                0.37 m from step 50 on)."
+                shows within 100 steps (several metres sideways at 1 and 2 substeps) and a \
+                standing pyramid has settled by step 150 (at 16 substeps and 120 Hz its sag at \
+                150, 300 and 500 steps agrees within 3 mm). The scene's own `solver` block asks \
+                for 60 Hz contacts at 8 substeps: that is the `8 sub, 60 Hz` row; every row \
+                sets its knobs explicitly."
             .into(),
         definition: format!(
             "**horizontal displacement**: the largest |x − x₀| of any box at the end. **tilt**: \

@@ -273,6 +273,10 @@ impl TumbleSim {
             .with_context(|| format!("{}: cannot build the tumble world", scene.name))?;
         world.set_thread_count(threads);
         apply(world.settings_mut(), knobs);
+        world
+            .settings()
+            .validate()
+            .with_context(|| format!("{}: the setting {}", scene.name, knobs.label()))?;
         Ok(TumbleSim {
             world,
             dt: scene.dt,
@@ -295,6 +299,10 @@ impl Peer for TumbleSim {
     fn velocity(&mut self, index: usize) -> Result<[f32; 3]> {
         let b = self.world.body(index);
         Ok([b.linear_velocity.x, b.linear_velocity.y, b.angular_velocity])
+    }
+
+    fn non_finite_bodies(&mut self) -> u64 {
+        self.world.non_finite_bodies()
     }
 }
 

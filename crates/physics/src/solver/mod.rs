@@ -118,6 +118,10 @@ pub struct Solver {
     /// Run the eight-lane kernels in 256-bit AVX2 registers where the CPU has them (else as
     /// portable `f32x8`; same results). On by default; off only to test that equality.
     pub use_avx: bool,
+    /// Run as many solver workers as asked even beyond the cores (they then wait on each
+    /// other: slower, the same result). Off by default; tests of determinism turn it on to
+    /// run 3 and 4 real workers on a 2-core machine.
+    pub workers_beyond_cores: bool,
 }
 
 /// The knobs the solver reads each step.
@@ -463,10 +467,12 @@ impl Solver {
         workers: usize,
     ) -> (u64, usize) {
         // Spinning workers beyond the core count only wait on each other: cap them there.
-        let workers = workers
-            .max(1)
-            .min(rayon::current_num_threads())
-            .min(crate::default_thread_count());
+        let cores = if self.workers_beyond_cores {
+            usize::MAX
+        } else {
+            crate::default_thread_count()
+        };
+        let workers = workers.max(1).min(rayon::current_num_threads()).min(cores);
         let plan = self.plan(motion.len(), step, workers);
         let passes = Passes {
             scalar: SharedSlice::new(&mut self.constraints),
