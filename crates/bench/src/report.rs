@@ -461,7 +461,7 @@ fn markdown(
          errors are deterministic (each engine gives the same state run after run on one \
          thread). A non-finite metric never passes; a run in which tumble's NaN guard had to \
          stop a body (`World::non_finite_bodies` > 0: the body keeps its last finite pose, so \
-         its metrics would look finite) counts as non-finite, every metric —. [Summary](#summary-the-cheapest-setting-that-passes) at the \
+         its metrics would look finite) counts as non-finite: its metrics show as —. [Summary](#summary-the-cheapest-setting-that-passes) at the \
          end. To regenerate (docs/bench/README.md explains the flags):\n\n\
          ```sh\n\
          grep -q avx2 /proc/cpuinfo && FEATURES=peers,simd-avx2 || FEATURES=peers\n\

@@ -1624,13 +1624,37 @@ mod tests {
 
     #[test]
     fn thread_count_changes_between_steps_keep_the_result() {
-        let run = |switch: bool| {
-            let mut w = ball_on_ground();
-            for i in 0..60 {
-                if switch {
-                    w.set_thread_count(1 + i % 3);
+        // A 30-row pyramid: 465 boxes, about 1,400 touching contacts, well above the 256 below
+        // which one worker solves alone, so every step here really is solved by the workers
+        // asked for (1 to 3, beyond the cores where there are fewer; checked each step).
+        let pyramid = || {
+            let mut w = World::new(StepSettings::default());
+            w.set_workers_beyond_cores(true);
+            let ground = BodyDef::new(ShapeDef::Box {
+                half_extents: [40.0, 0.5],
+            });
+            w.add_body(&ground.kind(BodyKind::Static)).unwrap();
+            for row in 0..30 {
+                for col in 0..(30 - row) {
+                    let x = col as f32 + row as f32 * 0.5 - 15.0;
+                    let unit = ShapeDef::Box {
+                        half_extents: [0.5, 0.5],
+                    };
+                    w.add_body(&BodyDef::new(unit).at(x, 1.0 + row as f32))
+                        .unwrap();
                 }
+            }
+            w
+        };
+        let run = |switch: bool| {
+            let mut w = pyramid();
+            w.set_thread_count(1);
+            for i in 0..30 {
+                let workers = if switch { 1 + i % 3 } else { 1 };
+                w.set_thread_count(workers);
                 w.step(1.0 / 60.0, 4);
+                assert!(w.profile().touching > 256);
+                assert_eq!(w.profile().solver_workers, workers, "step {i}");
             }
             w.state_hash()
         };

@@ -848,7 +848,9 @@ mod tests {
                 count(&scene, BodyKind::Dynamic) > 0,
                 "{name} has nothing moving"
             );
-            assert!(scene.steps > 0 && scene.substeps == 4);
+            // Box2D's 4 substeps, but where a scene's file asks for stiffer contacts.
+            let substeps = if name == "pyramid_200" { 8 } else { 4 };
+            assert!(scene.steps > 0 && scene.substeps == substeps, "{name}");
             assert!((scene.dt - 1.0 / 60.0).abs() < 1e-9);
             if let Err(e) = scene.validate(&Limits::default()) {
                 panic!("{name} does not validate: {e}");
