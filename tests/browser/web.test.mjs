@@ -143,6 +143,7 @@ for (const backend of BACKENDS) {
         assert.equal(typeof later[key], 'number', key);
       }
       assert.ok(later.step_ms_mean > 0, 'step_ms_mean');
+      assert.equal(later.non_finite_bodies, 0, 'the NaN guard stopped no body');
       assert.deepEqual(errors, [], 'no console errors');
       await page.close();
     });

@@ -731,6 +731,7 @@ impl App {
             adapter: gfx.map_or_else(String::new, |g| g.info.name.clone()),
             size: [width, height],
             state_hash: sim.map_or_else(String::new, |s| format!("{:016x}", s.world.state_hash())),
+            non_finite_bodies: sim.map_or(0, |s| s.world.non_finite_bodies()),
         }
     }
 }

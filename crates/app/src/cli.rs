@@ -142,6 +142,9 @@ pub struct Stats {
     pub size: [u32; 2],
     /// The world's state hash at exit, hex.
     pub state_hash: String,
+    /// Bodies the step's NaN guard stopped since the scene started (0 in a healthy run):
+    /// such a body keeps its last finite pose, so only this count tells.
+    pub non_finite_bodies: u64,
 }
 
 impl Stats {

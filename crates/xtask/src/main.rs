@@ -251,7 +251,8 @@ fn viewer_window(root: &Path) -> Result<(), String> {
     set_private(&runtime);
     let shot = dir.join("shot.png");
     let stats = dir.join("stats.json");
-    let binary = root.join("target/release/tumble");
+    // Where cargo put it: `CARGO_TARGET_DIR` when set, else `target/`.
+    let binary = web::target_dir(root).join("release/tumble");
     let frames = WINDOW_FRAMES.to_string();
     let mut run = Command::new("xvfb-run");
     run.args(["-a", "-s", "-screen 0 1280x800x24"])
@@ -285,6 +286,10 @@ fn viewer_window(root: &Path) -> Result<(), String> {
     }
     for key in ["bodies", "threads", "step_ms_mean"] {
         json_number(&text, key)?;
+    }
+    // The NaN guard keeps every pose finite, so only its count shows a broken step.
+    if json_number(&text, "non_finite_bodies")? != 0.0 {
+        return Err(format!("the step's NaN guard stopped bodies: {text}"));
     }
 
     let bytes =

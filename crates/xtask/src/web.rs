@@ -91,7 +91,7 @@ pub fn task(root: &Path, args: &[String]) -> Result<(), String> {
 }
 
 /// Where cargo puts build output: `$CARGO_TARGET_DIR`, else `target/`.
-fn target_dir(root: &Path) -> PathBuf {
+pub(crate) fn target_dir(root: &Path) -> PathBuf {
     env::var_os("CARGO_TARGET_DIR")
         .map(PathBuf::from)
         .map(|d| if d.is_absolute() { d } else { root.join(d) })

@@ -255,6 +255,7 @@ impl Publisher {
         self.set("scene", JsValue::from_str(&s.scene));
         self.set("step_ms_mean", num(s.step_ms_mean));
         self.set("cross_origin_isolated", JsValue::from_bool(self.isolated));
+        self.set("non_finite_bodies", num(s.non_finite_bodies as f64));
         // Beyond the contract: what tests and the benchmark look at.
         self.set("threads_enabled", JsValue::from_bool(threads::enabled()));
         self.set("max_threads", num(r.max_threads as f64));
