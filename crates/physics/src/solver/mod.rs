@@ -104,6 +104,8 @@ pub struct Solver {
     colored_for: Option<(usize, bool)>,
     /// For each scalar constraint slot, the index of the touching contact it is built from.
     slot_source: Vec<u32>,
+    /// The stages of the last run of substeps (a buffer reused by the next run).
+    plan: Vec<Stage>,
     /// For each wide constraint, its lanes in use.
     wide_lanes: Vec<u8>,
     /// For each touching contact (by position in `touching`), its lane of a wide
@@ -473,7 +475,24 @@ impl Solver {
             crate::default_thread_count()
         };
         let workers = workers.max(1).min(rayon::current_num_threads()).min(cores);
-        let plan = self.plan(motion.len(), step, workers);
+        // The plan's buffer is kept from run to run: a steady scene's step allocates nothing.
+        let mut plan = std::mem::take(&mut self.plan);
+        self.plan_into(&mut plan, motion.len(), step, workers);
+        let result = self.run_plan(&plan, states, motion, step, workers);
+        self.plan = plan;
+        result
+    }
+
+    /// Runs the stages of `plan` on `workers` workers; see [`Solver::run_substeps`].
+    #[allow(unsafe_code)]
+    fn run_plan(
+        &mut self,
+        plan: &[Stage],
+        states: &mut [BodyState],
+        motion: &[BodyMotion],
+        step: &SubstepParams,
+        workers: usize,
+    ) -> (u64, usize) {
         let passes = Passes {
             scalar: SharedSlice::new(&mut self.constraints),
             wide: SharedSlice::new(&mut self.wide),
@@ -518,11 +537,17 @@ impl Solver {
     /// The stages of one run of substeps, in order: per substep, integrate velocities, warm
     /// start, solve, integrate positions and relax (each colour pass as one stage per colour,
     /// the overflow first), then the restitution passes when any constraint bounces.
-    fn plan(&self, bodies: usize, step: &SubstepParams, workers: usize) -> Vec<Stage> {
+    fn plan_into(
+        &self,
+        plan: &mut Vec<Stage>,
+        bodies: usize,
+        step: &SubstepParams,
+        workers: usize,
+    ) {
         // Blocks small enough that a worker that finishes early can take a slow one's last
         // blocks, large enough that claiming one (an atomic add) stays negligible.
         let blocks = |len: usize, min: usize| (len / min).clamp(1, 8 * workers);
-        let mut plan = Vec::new();
+        plan.clear();
         let bodies_stage = |pass| Stage {
             pass,
             color: 0,
@@ -554,19 +579,18 @@ impl Solver {
         };
         for _ in 0..step.substeps {
             plan.push(bodies_stage(Pass::IntegrateVelocities));
-            colors(&mut plan, Pass::WarmStart);
-            colors(&mut plan, Pass::Solve);
+            colors(plan, Pass::WarmStart);
+            colors(plan, Pass::Solve);
             plan.push(bodies_stage(Pass::IntegratePositions));
             for _ in 0..step.relax_iterations {
-                colors(&mut plan, Pass::Relax);
+                colors(plan, Pass::Relax);
             }
         }
         if self.any_restitution {
             for _ in 0..step.restitution_iterations.max(1) {
-                colors(&mut plan, Pass::Restitution);
+                colors(plan, Pass::Restitution);
             }
         }
-        plan
     }
 }
 
