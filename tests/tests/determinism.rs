@@ -33,6 +33,19 @@ struct Run {
     circle_contacts: usize,
 }
 
+impl Run {
+    /// What a run ends in: `w`'s state bits, hash and contact count.
+    fn of(label: String, w: &World, circle_contacts: usize) -> Run {
+        Run {
+            label,
+            state: snapshot(w),
+            hash: w.state_hash(),
+            contacts: w.contact_count(),
+            circle_contacts,
+        }
+    }
+}
+
 /// Runs `falling_circles` for 240 steps, 4 s: the 180 circles start 18 m to 35 m up, the
 /// lowest reach the 15 m top of the pyramid after about 0.7 s and the highest the ground by
 /// about 2.6 s, then bounce and roll among its 120 boxes. The thread count for each step is
@@ -86,13 +99,7 @@ fn run_with(label: &str, threads: impl Fn(u32) -> usize, tweak: impl Fn(&mut Ste
         w.state_hash(),
         t0.elapsed().as_secs_f64() * 1e3
     );
-    Run {
-        label: label.to_string(),
-        state: snapshot(&w),
-        hash: w.state_hash(),
-        contacts: w.contact_count(),
-        circle_contacts,
-    }
+    Run::of(label.to_string(), &w, circle_contacts)
 }
 
 const FIELDS: [&str; 7] = ["x", "y", "cos", "sin", "vx", "vy", "w"];
@@ -200,14 +207,10 @@ fn run_workers(scene: &SceneDef, steps: u32, workers: usize) -> (Run, usize) {
         overflow = overflow.max(p.overflow);
     }
     assert!(all_finite(&w), "{}: non-finite state", scene.name);
-    let run = Run {
-        label: format!("{} on {workers} workers", scene.name),
-        state: snapshot(&w),
-        hash: w.state_hash(),
-        contacts: w.contact_count(),
-        circle_contacts: 0,
-    };
-    (run, overflow)
+    (
+        Run::of(format!("{} on {workers} workers", scene.name), &w, 0),
+        overflow,
+    )
 }
 
 /// `large_pyramid` with two more things beside it: 30 posts carrying one plank (the plank's
@@ -274,12 +277,10 @@ fn the_thread_count_changes_mid_run_on_a_parallel_scene() {
         w.step(scene.dt, scene.substeps);
         assert_eq!(w.profile().solver_workers, workers, "step {step}");
     }
-    let switching = Run {
-        label: "large_pyramid, 1-4 workers changing every 5 steps".into(),
-        state: snapshot(&w),
-        hash: w.state_hash(),
-        contacts: w.contact_count(),
-        circle_contacts: 0,
-    };
+    let switching = Run::of(
+        "large_pyramid, 1-4 workers changing every 5 steps".into(),
+        &w,
+        0,
+    );
     assert_same(&one, &switching);
 }

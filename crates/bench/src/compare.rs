@@ -422,6 +422,7 @@ mod imp {
         list: &[(SceneDef, StepSettings, u32)],
         threads: &[usize],
     ) -> Vec<Line> {
+        let repeats = measures.iter().map(|m| m.repeat).max().map_or(0, |r| r + 1);
         let mut out = Vec::new();
         for (scene, _, steps) in list {
             for &t in threads {
@@ -445,7 +446,6 @@ mod imp {
                         .map(|m| m.ms)
                 };
                 let ratios = std::array::from_fn(|peer| {
-                    let repeats = measures.iter().map(|m| m.repeat).max().map_or(0, |r| r + 1);
                     (0..repeats)
                         .filter_map(|r| Some(run_ms(ENGINES[0], r)? / run_ms(ENGINES[peer], r)?))
                         .collect()

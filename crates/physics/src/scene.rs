@@ -257,11 +257,11 @@ impl SolverDef {
 
     /// Sets the fields this block gives on `settings`, leaving the others as they are.
     pub fn apply(&self, settings: &mut crate::StepSettings) {
-        let set = |field: &mut f32, value: Option<f32>| {
+        fn set<T: Copy>(field: &mut T, value: Option<T>) {
             if let Some(v) = value {
                 *field = v;
             }
-        };
+        }
         set(&mut settings.contact_hertz, self.contact_hertz);
         set(
             &mut settings.contact_damping_ratio,
@@ -272,12 +272,11 @@ impl SolverDef {
             self.restitution_threshold,
         );
         set(&mut settings.max_push_speed, self.max_push_speed);
-        if let Some(n) = self.relax_iterations {
-            settings.relax_iterations = n;
-        }
-        if let Some(n) = self.restitution_iterations {
-            settings.restitution_iterations = n;
-        }
+        set(&mut settings.relax_iterations, self.relax_iterations);
+        set(
+            &mut settings.restitution_iterations,
+            self.restitution_iterations,
+        );
     }
 
     /// Checks each given field; the error names it as `solver.<field>`.

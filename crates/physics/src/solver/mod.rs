@@ -460,7 +460,6 @@ impl Solver {
     /// overflow is solved by the leading worker alone before the colours. The result does
     /// not depend on `workers` nor on who runs which block: each colour's constraints touch
     /// disjoint bodies, so their order within a colour is moot.
-    #[allow(unsafe_code)]
     pub fn run_substeps(
         &mut self,
         states: &mut [BodyState],
