@@ -7,6 +7,7 @@
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+use tumble_physics::WideThresholds;
 use tumble_tests::{all_finite, run, world};
 
 /// Allocations (and reallocations) made by any thread of this process.
@@ -35,25 +36,74 @@ unsafe impl GlobalAlloc for Counting {
 #[global_allocator]
 static COUNTING: Counting = Counting;
 
+/// The count is the process's: the tests of this binary take turns, each holding its turn
+/// until it has asserted (a failing test's panic message allocates too).
+fn turn() -> std::sync::MutexGuard<'static, ()> {
+    static SERIAL: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    SERIAL.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Allocations in 100 steps of `scene` on `threads` threads after `settle` steps, with the
+/// stage thresholds `wide`; and whether every one of those steps ran inline.
+fn allocations_in_100_steps(
+    name: &str,
+    settle: u32,
+    threads: usize,
+    wide: WideThresholds,
+) -> (usize, bool) {
+    let scene = tumble_scene::builtin::build(name).expect(name);
+    let mut w = world(&scene);
+    w.set_thread_count(threads);
+    w.set_wide_thresholds(wide);
+    run(&mut w, &scene, settle);
+    let before = ALLOCATIONS.load(Ordering::Relaxed);
+    let mut inline = true;
+    for _ in 0..100 {
+        w.step(scene.dt, scene.substeps);
+        inline &= w.profile().inline;
+    }
+    let allocations = ALLOCATIONS.load(Ordering::Relaxed) - before;
+    assert!(all_finite(&w), "{name}: non-finite state");
+    (allocations, inline)
+}
+
 #[test]
 fn a_resting_pyramid_steps_without_allocating_on_one_thread() {
     // The 20-row pyramid has settled by step 300 (its contacts are recycled and its touching
-    // pairs repeat, so the colouring is kept). Before this test existed its step allocated
-    // 20 times (the touching list's parallel gather, the solver's stage plan, the core count
-    // read from the cgroup files each step): 2,000 in 100 steps. What is left is rayon's: the
-    // step runs in the world's pool (`ThreadPool::install` from outside it), whose job queue
-    // takes a new block every 63 jobs, so 100 steps may allocate twice. One allocation more
-    // per step makes 100 or more.
-    let scene = tumble_scene::builtin::build("pyramid").expect("pyramid");
-    let mut w = world(&scene);
-    w.set_thread_count(1);
-    run(&mut w, &scene, 300);
-    let before = ALLOCATIONS.load(Ordering::Relaxed);
-    run(&mut w, &scene, 100);
-    let allocations = ALLOCATIONS.load(Ordering::Relaxed) - before;
-    assert!(all_finite(&w), "pyramid: non-finite state");
+    // pairs repeat, so the colouring is kept). Before issue 14 its step allocated 20 times
+    // (the touching list's parallel gather, the solver's stage plan, the core count read from
+    // the cgroup files), then twice in 100 steps (rayon's job queue: a step ran in a pool of
+    // one thread). On one thread a step now runs inline and must not allocate at all.
+    let _turn = turn();
+    let (allocations, inline) =
+        allocations_in_100_steps("pyramid", 300, 1, WideThresholds::default());
+    assert!(inline, "a one-thread step ran in a pool");
+    assert_eq!(allocations, 0, "100 steps of a resting pyramid allocated");
+}
+
+#[test]
+fn a_small_scene_on_two_threads_runs_inline_without_allocating() {
+    // The 20-row pyramid's stages are all below their default thresholds (210 bodies, about
+    // 400 touching contacts): on two threads it runs inline, as on one.
+    let _turn = turn();
+    let (allocations, inline) =
+        allocations_in_100_steps("pyramid", 300, 2, WideThresholds::default());
+    assert!(inline, "the small pyramid woke the pool");
+    assert_eq!(allocations, 0, "100 inline steps allocated");
+}
+
+#[test]
+fn a_wide_step_allocates_only_in_rayons_job_queue() {
+    // Every stage split over two workers: the stage board and the fork of the workers
+    // (`rayon::join`) allocate nothing; what is left is the job queue a step from outside
+    // the pool is injected through (`ThreadPool::install`), which takes a new block every
+    // 63 jobs (crossbeam's `Injector`): at most 2 in 100 steps. One allocation a step more
+    // makes 100 or more.
+    let _turn = turn();
+    let (allocations, inline) = allocations_in_100_steps("pyramid", 300, 2, WideThresholds::ALWAYS);
+    assert!(!inline, "no step went wide");
     assert!(
         allocations <= 2,
-        "100 steps of a resting pyramid allocated {allocations} times; at most 2 (rayon's queue)"
+        "100 wide steps allocated {allocations} times; at most 2 (rayon's queue)"
     );
 }

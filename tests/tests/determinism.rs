@@ -1,7 +1,7 @@
 //! Determinism across thread counts: the same scene stepped on 1, 2, 3 and 4 threads, and with
 //! the thread count changed mid-run, ends in bit-identical states.
 
-use tumble_physics::{BodyDef, BodyKind, SceneDef, ShapeDef, StepSettings, World};
+use tumble_physics::{BodyDef, BodyKind, SceneDef, ShapeDef, StepSettings, WideThresholds, World};
 use tumble_tests::{all_finite, world};
 
 const STEPS: u32 = 240;
@@ -46,16 +46,36 @@ impl Run {
     }
 }
 
+/// Thresholds that `falling_circles` crosses while it runs (measured: its contacts grow from
+/// 330 to about 720 and its touching ones from 330 to about 580 as the circles land, with
+/// 150 to 180 proxies moving each step): its first ~75 steps run inline (contacts and moved
+/// below 600), then the step goes wide, and the narrow phase, prepare and the solver split
+/// from about step 90 on (contacts above 500, touching above 460 and 400). The defaults
+/// keep this 300-body scene inline.
+const CROSSING: WideThresholds = WideThresholds {
+    step: 300,
+    broad_phase: 60,
+    narrow_phase: 250,
+    prepare: 230,
+    solve: 200,
+    finalize: 140,
+};
+
 /// Runs `falling_circles` for 240 steps, 4 s: the 180 circles start 18 m to 35 m up, the
 /// lowest reach the 15 m top of the pyramid after about 0.7 s and the highest the ground by
 /// about 2.6 s, then bounce and roll among its 120 boxes. The thread count for each step is
-/// `threads(step)`.
+/// `threads(step)`; stages split by [`CROSSING`].
 fn run(label: &str, threads: impl Fn(u32) -> usize) -> Run {
-    run_with(label, threads, |_| {})
+    run_with(label, threads, CROSSING, |_| {})
 }
 
-/// [`run`] with the step settings changed by `tweak` first.
-fn run_with(label: &str, threads: impl Fn(u32) -> usize, tweak: impl Fn(&mut StepSettings)) -> Run {
+/// [`run`] with the stage thresholds `wide` and the step settings changed by `tweak` first.
+fn run_with(
+    label: &str,
+    threads: impl Fn(u32) -> usize,
+    wide: WideThresholds,
+    tweak: impl Fn(&mut StepSettings),
+) -> Run {
     let scene = match tumble_scene::builtin::build("falling_circles") {
         Some(s) => s,
         None => panic!("no built-in falling_circles"),
@@ -67,25 +87,42 @@ fn run_with(label: &str, threads: impl Fn(u32) -> usize, tweak: impl Fn(&mut Ste
         .unwrap_or(scene.bodies.len());
     let t0 = std::time::Instant::now();
     let mut w = world(&scene);
+    w.set_wide_thresholds(wide);
     tweak(w.settings_mut());
     let cores = tumble_physics::default_thread_count();
-    let mut parallel_solves = 0;
+    let (mut inline_steps, mut parallel_solves) = (0, 0);
     for step in 0..STEPS {
         let n = threads(step);
         w.set_thread_count(n);
         w.step(scene.dt, scene.substeps);
-        // The solver must really run on several workers whenever it can (it runs on one
-        // below 256 touching contacts, and never on more workers than cores).
+        // The solver must really run on several workers whenever it may: in a step that left
+        // the caller's thread, with two workers' worth of touching contacts, on as many
+        // workers as there are threads and cores.
         let p = w.profile();
-        if p.touching >= 256 {
+        if p.inline {
+            inline_steps += 1;
+            assert_eq!(p.solver_workers, 1, "{label}: step {step} ran inline");
+        } else if p.touching >= 2 * wide.solve {
             assert_eq!(p.solver_workers, n.min(cores), "{label}: step {step}");
             parallel_solves += usize::from(p.solver_workers > 1);
         }
     }
-    if cores > 1 && threads(STEPS - 1) > 1 {
+    if wide == WideThresholds::default() {
+        assert_eq!(
+            inline_steps, STEPS,
+            "{label}: a small scene left the caller's thread"
+        );
+    } else if cores > 1 && threads(STEPS - 1) > 1 {
         assert!(
             parallel_solves > 0,
             "{label}: the parallel solver never ran"
+        );
+    }
+    // Thresholds that this scene crosses: some steps inline, some not.
+    if wide == CROSSING && threads(0) > 1 && threads(STEPS - 1) > 1 {
+        assert!(
+            inline_steps > 0 && inline_steps < STEPS,
+            "{label}: {inline_steps} of {STEPS} steps inline; the thresholds are not crossed"
         );
     }
     assert!(all_finite(&w), "{label}: non-finite state");
@@ -147,6 +184,17 @@ fn falling_circles_is_bit_identical_on_any_thread_count() {
     for n in [2, 3, 4] {
         assert_same(&one, &run(&format!("{n} threads"), |_| n));
     }
+    // Every stage split whatever its size, and none ever (the defaults keep this scene inline,
+    // the path a small scene takes on any thread count).
+    for (wide, name) in [
+        (WideThresholds::ALWAYS, "every stage split"),
+        (WideThresholds::default(), "default thresholds"),
+    ] {
+        for n in [2, 4] {
+            let label = format!("{n} threads, {name}");
+            assert_same(&one, &run_with(&label, |_| n, wide, |_| {}));
+        }
+    }
     // Thread count changed every 10 steps: 1, 2, 3, 4, 1, 2, ...
     let switching = run("switching 1-4 every 10 steps", |step| {
         (step / 10 % 4) as usize + 1
@@ -170,17 +218,23 @@ fn repeated_restitution_passes_are_bit_identical_on_any_thread_count() {
         s.restitution_threshold = 0.0;
         s.restitution_iterations = 8;
     };
-    let one = run_with("8 restitution passes, 1 thread", |_| 1, bouncy);
+    let one = run_with("8 restitution passes, 1 thread", |_| 1, CROSSING, bouncy);
     for n in [2, 3, 4] {
         assert_same(
             &one,
-            &run_with(&format!("8 restitution passes, {n} threads"), |_| n, bouncy),
+            &run_with(
+                &format!("8 restitution passes, {n} threads"),
+                |_| n,
+                CROSSING,
+                bouncy,
+            ),
         );
     }
     // And they change the result: the passes really ran.
     let single = run_with(
         "1 restitution pass, 1 thread",
         |_| 1,
+        CROSSING,
         |s| {
             s.restitution_threshold = 0.0;
         },

@@ -17,6 +17,7 @@ mod run;
 mod scenes;
 mod soak;
 mod sweep;
+mod thresholds;
 mod timing;
 
 use std::process::ExitCode;
@@ -49,6 +50,10 @@ enum Command {
     /// reports resident memory, contacts and finiteness at checkpoints; exits 1 if anything
     /// went non-finite.
     Soak(soak::SoakArgs),
+    /// Where splitting each stage of the step over the threads begins to pay: the pile family
+    /// stepped with every stage inline and with every stage split; writes a markdown table and
+    /// the crossovers `WideThresholds::default()` is set from.
+    Thresholds(thresholds::ThresholdsArgs),
 }
 
 fn main() -> ExitCode {
@@ -71,6 +76,7 @@ fn main() -> ExitCode {
         Command::Compare(args) => compare::run(&args),
         Command::Report(args) => report::run(&args),
         Command::Soak(args) => soak::run(&args),
+        Command::Thresholds(args) => thresholds::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

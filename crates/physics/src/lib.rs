@@ -40,8 +40,8 @@ pub use scene::{
 };
 pub use shape::{Aabb, Circle, MassData, Polygon, Shape};
 pub use world::{
-    BodyView, ContactView, SpawnWorker, StepSettings, World, WorldSnapshot, default_thread_count,
-    set_thread_source,
+    BodyView, ContactView, SpawnWorker, StepSettings, WideThresholds, World, WorldSnapshot,
+    default_thread_count, set_thread_source,
 };
 
 /// Length tolerance used by collision (Box2D's `B2_LINEAR_SLOP`, 5 mm).

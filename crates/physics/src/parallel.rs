@@ -145,6 +145,153 @@ pub fn prefetch_ptr<T>(ptr: *const T) {
     let _ = ptr;
 }
 
+/// How widely a step's stages may spread: over `workers` threads of the world's pool (the step
+/// then runs inside it), or inline on the caller's thread (`workers == 1`: no pool, no
+/// atomics, nothing but the stage's own loop).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Spread {
+    workers: usize,
+}
+
+impl Spread {
+    /// Everything on the calling thread.
+    pub const INLINE: Spread = Spread { workers: 1 };
+
+    /// Up to `workers` workers of the rayon pool the caller runs in.
+    pub fn over(workers: usize) -> Spread {
+        Spread {
+            workers: workers.max(1),
+        }
+    }
+
+    /// Workers a stage may use.
+    pub fn workers(self) -> usize {
+        self.workers
+    }
+
+    /// Whether a stage of `items` items is split: only when every worker gets at least
+    /// `min_per_worker` of them (the work that pays for handing it out and waiting for it).
+    pub fn goes_wide(self, items: usize, min_per_worker: usize) -> bool {
+        self.workers > 1 && items >= 2 * min_per_worker.max(1)
+    }
+}
+
+/// Data a stage can cut into parts that workers process independently: slices, shared or
+/// mutable, index ranges, and tuples of those of one length (zipped).
+pub trait Split: Send + Sized {
+    /// Items in it.
+    fn item_count(&self) -> usize;
+    /// The first `mid` items and the rest.
+    fn split_at(self, mid: usize) -> (Self, Self);
+}
+
+impl<T: Send> Split for &mut [T] {
+    fn item_count(&self) -> usize {
+        <[T]>::len(self)
+    }
+    fn split_at(self, mid: usize) -> (Self, Self) {
+        self.split_at_mut(mid)
+    }
+}
+
+impl<T: Sync> Split for &[T] {
+    fn item_count(&self) -> usize {
+        <[T]>::len(self)
+    }
+    fn split_at(self, mid: usize) -> (Self, Self) {
+        <[T]>::split_at(self, mid)
+    }
+}
+
+impl Split for Range<usize> {
+    fn item_count(&self) -> usize {
+        self.end - self.start
+    }
+    fn split_at(self, mid: usize) -> (Self, Self) {
+        let mid = self.start + mid;
+        (self.start..mid, mid..self.end)
+    }
+}
+
+macro_rules! split_tuple {
+    ($($name:ident $idx:tt),+) => {
+        impl<$($name: Split),+> Split for ($($name,)+) {
+            fn item_count(&self) -> usize {
+                let len = self.0.item_count();
+                $(debug_assert_eq!(self.$idx.item_count(), len, "zipped parts differ in length");)+
+                len
+            }
+            #[allow(non_snake_case)]
+            fn split_at(self, mid: usize) -> (Self, Self) {
+                $(let $name = self.$idx.split_at(mid);)+
+                (($($name.0,)+), ($($name.1,)+))
+            }
+        }
+    };
+}
+split_tuple!(A 0, B 1);
+split_tuple!(A 0, B 1, C 2);
+split_tuple!(A 0, B 1, C 2, D 3);
+split_tuple!(A 0, B 1, C 2, D 3, E 4);
+
+/// Runs `f(offset, part)` over parts of `data` that cover it once each (`offset`: the part's
+/// first index) and folds their results with `reduce`. One part, on this thread, unless
+/// `spread` goes wide for `data`'s length (see [`Spread::goes_wide`]); then the parts are
+/// forked with `rayon::join` (which allocates nothing) on the pool the caller runs in.
+///
+/// The result is the same either way when `f` writes only its part and `reduce` is exact and
+/// associative (integer sums, `or`): the tests of determinism rely on it.
+pub fn for_parts<S: Split, R: Send>(
+    spread: Spread,
+    data: S,
+    min_per_worker: usize,
+    f: &(impl Fn(usize, S) -> R + Sync),
+    reduce: &(impl Fn(R, R) -> R + Sync),
+) -> R {
+    let len = data.item_count();
+    if !spread.goes_wide(len, min_per_worker) {
+        return f(0, data);
+    }
+    debug_assert!(
+        rayon::current_thread_index().is_some(),
+        "a wide stage runs inside the world's pool"
+    );
+    // Four parts a worker, so one that finishes early takes another's last part, and never
+    // below the minimum that pays for a part.
+    let grain = (len / (4 * spread.workers)).max(min_per_worker).max(1);
+    fork(0, data, grain, f, reduce)
+}
+
+fn fork<S: Split, R: Send>(
+    offset: usize,
+    data: S,
+    grain: usize,
+    f: &(impl Fn(usize, S) -> R + Sync),
+    reduce: &(impl Fn(R, R) -> R + Sync),
+) -> R {
+    let len = data.item_count();
+    if len < 2 * grain {
+        return f(offset, data);
+    }
+    let mid = len / 2;
+    let (left, right) = data.split_at(mid);
+    let (a, b) = rayon::join(
+        || fork(offset, left, grain, f, reduce),
+        || fork(offset + mid, right, grain, f, reduce),
+    );
+    reduce(a, b)
+}
+
+/// [`for_parts`] for a stage that returns nothing.
+pub fn for_each_part<S: Split>(
+    spread: Spread,
+    data: S,
+    min_per_worker: usize,
+    f: &(impl Fn(usize, S) + Sync),
+) {
+    for_parts(spread, data, min_per_worker, f, &|(), ()| ());
+}
+
 /// The share of `range` that worker `index` of `count` works on: contiguous, disjoint, and
 /// covering the range, so every item is processed exactly once whatever the thread count.
 pub fn worker_range(range: &Range<usize>, index: usize, count: usize) -> Range<usize> {
@@ -246,24 +393,64 @@ impl Drop for PoisonOnPanic<'_> {
 
 const FINISHED: usize = usize::MAX;
 
+impl Default for StageBoard {
+    fn default() -> Self {
+        StageBoard::new(Vec::new(), 1)
+    }
+}
+
+/// A board is scratch space between runs: a clone is a fresh, empty one.
+impl Clone for StageBoard {
+    fn clone(&self) -> Self {
+        StageBoard::default()
+    }
+}
+
+impl std::fmt::Debug for StageBoard {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("StageBoard")
+            .field("workers", &self.workers)
+            .field("stages", &self.blocks.len())
+            .finish_non_exhaustive()
+    }
+}
+
 impl StageBoard {
     /// A board for stages of `blocks[s]` blocks each, run by up to `workers` workers.
     pub fn new(blocks: Vec<usize>, workers: usize) -> StageBoard {
-        let workers = workers.max(1);
-        let next = blocks
-            .iter()
-            .flat_map(|&n| (0..workers).map(move |share| AtomicUsize::new(n * share / workers)))
-            .collect();
-        StageBoard {
-            workers,
+        let mut board = StageBoard {
+            workers: 1,
             current: AtomicUsize::new(0),
-            next,
-            done: blocks.iter().map(|_| AtomicUsize::new(0)).collect(),
-            blocks,
+            next: Vec::new(),
+            done: Vec::new(),
+            blocks: Vec::new(),
             joined: AtomicUsize::new(0),
             poisoned: std::sync::atomic::AtomicBool::new(false),
             parking: Parking::default(),
-        }
+        };
+        board.reset(blocks, workers);
+        board
+    }
+
+    /// Makes the board ready for a new run of stages of `blocks` blocks each, keeping its
+    /// buffers (a steady step allocates nothing).
+    pub fn reset(&mut self, blocks: impl IntoIterator<Item = usize>, workers: usize) {
+        let workers = workers.max(1);
+        self.workers = workers;
+        self.blocks.clear();
+        self.blocks.extend(blocks);
+        self.next.clear();
+        let blocks = &self.blocks;
+        self.next.extend(
+            blocks.iter().flat_map(|&n| {
+                (0..workers).map(move |share| AtomicUsize::new(n * share / workers))
+            }),
+        );
+        self.done.clear();
+        self.done.extend(blocks.iter().map(|_| AtomicUsize::new(0)));
+        *self.current.get_mut() = 0;
+        *self.joined.get_mut() = 0;
+        *self.poisoned.get_mut() = false;
     }
 
     /// Joins the run: `Some(0)` for the leader, who must call [`lead`](Self::lead) for every
@@ -370,6 +557,62 @@ mod tests {
                 assert_eq!(next, r.end);
             }
         }
+    }
+
+    #[test]
+    fn parts_cover_every_item_once_inline_and_wide() {
+        // 1000 items at 40 per worker: inline, one part on this thread; split over 3 workers
+        // of a pool, parts of at least 40 (1000 / 12 = 83 per part, halved down to >= 83)
+        // that cover 0..1000 once, with offsets matching; the sums agree.
+        let data: Vec<u64> = (0..1000).collect();
+        let mut out = vec![0u64; 1000];
+        let parts = std::sync::Mutex::new(Vec::new());
+        let square = |offset: usize, (src, dst): (&[u64], &mut [u64])| {
+            parts.lock().unwrap().push(offset..offset + src.len());
+            for (k, (s, d)) in src.iter().zip(dst.iter_mut()).enumerate() {
+                assert_eq!(*s, (offset + k) as u64);
+                *d = s * s;
+            }
+            src.iter().sum::<u64>()
+        };
+        let sum = for_parts(
+            Spread::INLINE,
+            (&data[..], &mut out[..]),
+            40,
+            &square,
+            &|a, b| a + b,
+        );
+        assert_eq!(sum, 499_500);
+        assert_eq!(*parts.lock().unwrap(), vec![0..1000]);
+        assert!(!Spread::over(3).goes_wide(79, 40) && Spread::over(3).goes_wide(80, 40));
+
+        parts.lock().unwrap().clear();
+        out.fill(0);
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(3)
+            .build()
+            .unwrap();
+        let sum = pool.install(|| {
+            for_parts(
+                Spread::over(3),
+                (&data[..], &mut out[..]),
+                40,
+                &square,
+                &|a, b| a + b,
+            )
+        });
+        assert_eq!(sum, 499_500);
+        assert!(out.iter().enumerate().all(|(i, &v)| v == (i * i) as u64));
+        let mut parts = parts.into_inner().unwrap();
+        parts.sort_by_key(|r| r.start);
+        assert!(parts.len() > 1, "no split: {parts:?}");
+        assert!(
+            parts.iter().all(|r| r.len() >= 40),
+            "a part below the minimum: {parts:?}"
+        );
+        assert_eq!(parts.first().unwrap().start, 0);
+        assert_eq!(parts.last().unwrap().end, 1000);
+        assert!(parts.windows(2).all(|w| w[0].end == w[1].start));
     }
 
     #[test]

@@ -30,8 +30,12 @@ pub struct StepProfile {
     pub overflow: usize,
     /// Proxies whose fat box changed in the last step.
     pub moved: usize,
-    /// Workers that ran the substeps (1 below 256 touching contacts, never more than cores).
+    /// Workers that ran the substeps (1 below `WideThresholds::solve` touching contacts a
+    /// worker, never more than cores).
     pub solver_workers: usize,
+    /// The step ran inline on the caller's thread: one thread, or no stage reached its
+    /// `WideThresholds` (the pool was not woken).
+    pub inline: bool,
     /// Contacts whose manifold was recycled rather than recomputed.
     pub recycled: usize,
     /// Bodies whose state went non-finite in this step and were stopped at their last finite

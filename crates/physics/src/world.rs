@@ -19,6 +19,7 @@ use crate::collision::broad_phase::BroadPhase;
 use crate::collision::{Manifold, collide};
 use crate::error::{SceneError, SettingsError};
 use crate::math::{Rot, Transform};
+use crate::parallel::{Spread, for_each_part, for_parts};
 use crate::profile::StepProfile;
 use crate::scene::{BodyDef, BodyKind, Limits, SceneDef};
 use crate::shape::{Aabb, Shape};
@@ -220,6 +221,66 @@ pub fn set_thread_source(cores: usize, spawn: Option<SpawnWorker>) -> bool {
     THREAD_SOURCE.set((cores, spawn)).is_ok()
 }
 
+/// The least work per worker for which a stage of the step is split over the world's threads:
+/// below it the stage runs on one thread, and a step none of whose stages reaches its
+/// threshold runs inline on the caller's thread without waking the pool. Results never depend
+/// on these (the tests of determinism run with [`WideThresholds::ALWAYS`] and the defaults).
+///
+/// The defaults come from measurement (`cargo run --release -p tumble-physics --example
+/// wide_thresholds`, docs/bench/thresholds.md): each is about where splitting the stage over
+/// two workers begins to pay on this project's 2-core machine.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct WideThresholds {
+    /// Contacts (and moved proxies, which make contacts), for the step to leave the caller's
+    /// thread at all: below it every stage runs inline (waking the pool and handing the step
+    /// back cost ~20 us a step).
+    pub step: usize,
+    /// Moved proxies, for the broad phase's queries.
+    pub broad_phase: usize,
+    /// Contacts, for the narrow phase.
+    pub narrow_phase: usize,
+    /// Touching contacts, for building, storing and checking the constraints.
+    pub prepare: usize,
+    /// Touching contacts, for the substeps and restitution (the solver's stage board).
+    pub solve: usize,
+    /// Bodies, for finalize.
+    pub finalize: usize,
+}
+
+impl WideThresholds {
+    /// Every stage of more than one item is split (for tests and measurement).
+    pub const ALWAYS: WideThresholds = WideThresholds {
+        step: 1,
+        broad_phase: 1,
+        narrow_phase: 1,
+        prepare: 1,
+        solve: 1,
+        finalize: 1,
+    };
+    /// No stage is ever split: every step runs inline.
+    pub const NEVER: WideThresholds = WideThresholds {
+        step: usize::MAX / 2,
+        broad_phase: usize::MAX / 2,
+        narrow_phase: usize::MAX / 2,
+        prepare: usize::MAX / 2,
+        solve: usize::MAX / 2,
+        finalize: usize::MAX / 2,
+    };
+}
+
+impl Default for WideThresholds {
+    fn default() -> Self {
+        WideThresholds {
+            step: 512,
+            broad_phase: 64,
+            narrow_phase: 256,
+            prepare: 512,
+            solve: 256,
+            finalize: 1024,
+        }
+    }
+}
+
 /// Per-body data that the step reads but the substep loop does not.
 #[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 struct BodySim {
@@ -392,9 +453,11 @@ pub struct World {
     touching: Vec<Touching>,
     solver_bodies: Vec<SolverBody>,
     motion: Vec<BodyMotion>,
-    /// `None` where the platform has no threads (see [`set_thread_source`]).
+    /// `None` at one thread, and where the platform has no threads (see
+    /// [`set_thread_source`]): every step then runs inline on the caller's thread.
     pool: Option<std::sync::Arc<rayon::ThreadPool>>,
     threads: usize,
+    wide: WideThresholds,
     profile: StepProfile,
     steps: u64,
     speed_caps: u64,
@@ -402,6 +465,9 @@ pub struct World {
 }
 
 fn build_pool(threads: usize) -> Option<std::sync::Arc<rayon::ThreadPool>> {
+    if threads <= 1 {
+        return None;
+    }
     let builder = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .thread_name(|i| format!("tumble-step-{i}"));
@@ -442,6 +508,7 @@ impl World {
             motion: Vec::new(),
             pool: build_pool(threads),
             threads,
+            wide: WideThresholds::default(),
             profile: StepProfile::default(),
             steps: 0,
             speed_caps: 0,
@@ -612,6 +679,17 @@ impl World {
     /// it to run 3 and 4 real workers on a 2-core machine.
     pub fn set_workers_beyond_cores(&mut self, allow: bool) {
         self.solver.workers_beyond_cores = allow;
+    }
+
+    /// Sets how much work per worker a stage needs before it is split over the threads (see
+    /// [`WideThresholds`]). Results do not change.
+    pub fn set_wide_thresholds(&mut self, thresholds: WideThresholds) {
+        self.wide = thresholds;
+    }
+
+    /// See [`World::set_wide_thresholds`].
+    pub fn wide_thresholds(&self) -> WideThresholds {
+        self.wide
     }
 
     /// Worker threads the step uses.
@@ -909,26 +987,33 @@ impl World {
             self.profile = profile;
             return;
         }
-        let pool = self.pool.clone();
+        let spread = self.spread_for_step();
+        // Only a wide step touches the pool (an inline one takes not even its reference count).
+        let pool = if spread == Spread::INLINE {
+            None
+        } else {
+            self.pool.clone()
+        };
         let mut run = || {
             let t = Instant::now();
-            self.update_pairs();
+            self.update_pairs(spread);
             profile.broad_phase_ms = ms(t);
 
             let t = Instant::now();
-            self.collide(dt);
+            self.collide(dt, spread);
             profile.narrow_phase_ms = ms(t);
 
-            self.solve(dt, substeps, &mut profile);
+            self.solve(dt, substeps, spread, &mut profile);
 
             let t = Instant::now();
-            self.finalize(dt);
+            self.finalize(dt, spread);
             profile.finalize_ms = ms(t);
         };
         match pool {
             Some(pool) => pool.install(run),
             None => run(),
         }
+        profile.inline = spread == Spread::INLINE;
         self.steps += 1;
         profile.bodies = self.sims.len();
         profile.contacts = self.contacts.len();
@@ -945,10 +1030,31 @@ impl World {
         dt > 0.0 && dt.is_normal() && substeps > 0 && (dt / substeps as f32).is_normal()
     }
 
+    /// Inline unless the step has [`WideThresholds::step`]'s contacts and some stage of it
+    /// would be split, judged on the counts the step starts from (a stage whose count crosses its threshold during the
+    /// step runs on one thread until the next step).
+    fn spread_for_step(&self) -> Spread {
+        if self.pool.is_none() {
+            return Spread::INLINE;
+        }
+        let all = Spread::over(self.threads);
+        let (w, contacts) = (&self.wide, self.contact_keys.len());
+        let split = all.goes_wide(self.moved.len(), w.broad_phase)
+            || all.goes_wide(contacts, w.narrow_phase)
+            || all.goes_wide(self.touching.len(), w.prepare.min(w.solve))
+            || all.goes_wide(self.sims.len(), w.finalize);
+        // A new scene's first step has no contacts yet, but its moved proxies will make them.
+        if split && all.goes_wide(contacts + self.moved.len(), w.step) {
+            all
+        } else {
+            Spread::INLINE
+        }
+    }
+
     /// Broad phase: rebuild the tree if a fat box changed, then find the new pairs of every
     /// moved proxy (in parallel, each into its own list) and create their contacts serially
     /// in moved order.
-    fn update_pairs(&mut self) {
+    fn update_pairs(&mut self, spread: Spread) {
         if self.moved.is_empty() {
             return;
         }
@@ -1008,8 +1114,14 @@ impl World {
                 };
                 Some((u64::from(rank[finder as usize]) << 32) | u64::from(other))
             };
-            let mut found = bp.overlapping_pairs_parallel(aabbs, 6, &keep);
-            found.par_sort_unstable();
+            // The top six levels of the walk as tasks when wide (64 of them, a few per worker).
+            let wide = spread.goes_wide(self.moved.len(), self.wide.broad_phase);
+            let mut found = bp.overlapping_pairs_parallel(aabbs, if wide { 6 } else { 0 }, &keep);
+            if wide {
+                found.par_sort_unstable();
+            } else {
+                found.sort_unstable();
+            }
             let moved = std::mem::take(&mut self.moved);
             for key in found {
                 let (finder, other) = (moved[(key >> 32) as usize], key as u32);
@@ -1019,28 +1131,35 @@ impl World {
             self.finish_moved(moved);
             return;
         }
-        let found: Vec<Vec<u32>> = self
-            .moved
-            .par_iter()
-            .with_min_len(64)
-            .map(|&i| {
+        // Each part of the moved proxies lists its new pairs in moved order, each proxy's
+        // sorted by the other's id; the parts are joined in order.
+        let found = for_parts(
+            spread,
+            &self.moved[..],
+            self.wide.broad_phase,
+            &|_, part: &[u32]| {
                 let mut out = Vec::new();
-                bp.query(&aabbs[i as usize], aabbs, |j| {
-                    // A pair of moved proxies is found from the larger id only.
-                    if j != i && !(moved_flags[j as usize] && j > i) && wants_contact(i, j) {
-                        out.push(j);
-                    }
-                });
-                out.sort_unstable();
+                for &i in part {
+                    let start = out.len();
+                    bp.query(&aabbs[i as usize], aabbs, |j| {
+                        // A pair of moved proxies is found from the larger id only.
+                        if j != i && !(moved_flags[j as usize] && j > i) && wants_contact(i, j) {
+                            out.push((i, j));
+                        }
+                    });
+                    out[start..].sort_unstable();
+                }
                 out
-            })
-            .collect();
-        let moved = std::mem::take(&mut self.moved);
-        for (k, &i) in moved.iter().enumerate() {
-            for &j in &found[k] {
-                self.create_contact(i, j);
-            }
+            },
+            &|mut a, b| {
+                a.extend(b);
+                a
+            },
+        );
+        for (i, j) in found {
+            self.create_contact(i, j);
         }
+        let moved = std::mem::take(&mut self.moved);
         self.finish_moved(moved);
     }
 
@@ -1082,55 +1201,61 @@ impl World {
     /// Narrow phase: every contact computes its manifold into its own slot, carrying
     /// impulses over by feature id; contacts whose fat boxes parted are then removed in
     /// descending index order, so the surviving order is deterministic.
-    fn collide(&mut self, dt: f32) {
+    fn collide(&mut self, dt: f32, spread: Spread) {
         let sims = &self.sims;
         let states = &self.states;
         let shapes = &self.shapes;
         let aabbs = &self.fat_aabbs;
         let recycling = self.settings.contact_recycling;
-        let recycled: usize = self
-            .contacts
-            .par_iter_mut()
-            .zip(self.contact_keys.par_iter_mut())
-            .with_min_len(64)
-            .map(|(c, key)| {
-                let (a, b) = (c.body_a as usize, c.body_b as usize);
-                if !aabbs[a].overlaps(&aabbs[b]) {
-                    key.remove = true;
-                    return 0;
+        let collide_one = |c: &mut Contact, key: &mut ContactKey| {
+            let (a, b) = (c.body_a as usize, c.body_b as usize);
+            if !aabbs[a].overlaps(&aabbs[b]) {
+                key.remove = true;
+                return 0;
+            }
+            let (xa, xb) = (sims[a].xf, sims[b].xf);
+            if recycling && recycle(c, &sims[a], &sims[b]) {
+                key.touching = c.manifold.count > 0;
+                return 1;
+            }
+            c.cache = Some(ContactCache {
+                q_a: xa.q,
+                q_b: xb.q,
+                relative: xa.inv_mul(xb),
+            });
+            // Speculative margin: how far the pair can close in one step, so bodies meet
+            // without tunnelling at ordinary speeds.
+            let (sa, sb) = (&states[a], &states[b]);
+            let closing =
+                (sb.v - sa.v).length() + sa.w.abs() * sims[a].extent + sb.w.abs() * sims[b].extent;
+            let max_distance = SPECULATIVE_DISTANCE + dt * closing;
+            let old = c.manifold;
+            let mut m = collide(&shapes[a], xa, &shapes[b], xb, max_distance);
+            for p in &mut m.points[..m.count] {
+                p.base_separation = p.separation;
+                if let Some(o) = old.points().iter().find(|o| o.id == p.id) {
+                    p.normal_impulse = o.normal_impulse;
+                    p.tangent_impulse = o.tangent_impulse;
+                    p.persisted = true;
                 }
-                let (xa, xb) = (sims[a].xf, sims[b].xf);
-                if recycling && recycle(c, &sims[a], &sims[b]) {
-                    key.touching = c.manifold.count > 0;
-                    return 1;
-                }
-                c.cache = Some(ContactCache {
-                    q_a: xa.q,
-                    q_b: xb.q,
-                    relative: xa.inv_mul(xb),
-                });
-                // Speculative margin: how far the pair can close in one step, so bodies meet
-                // without tunnelling at ordinary speeds.
-                let (sa, sb) = (&states[a], &states[b]);
-                let closing = (sb.v - sa.v).length()
-                    + sa.w.abs() * sims[a].extent
-                    + sb.w.abs() * sims[b].extent;
-                let max_distance = SPECULATIVE_DISTANCE + dt * closing;
-                let old = c.manifold;
-                let mut m = collide(&shapes[a], xa, &shapes[b], xb, max_distance);
-                for p in &mut m.points[..m.count] {
-                    p.base_separation = p.separation;
-                    if let Some(o) = old.points().iter().find(|o| o.id == p.id) {
-                        p.normal_impulse = o.normal_impulse;
-                        p.tangent_impulse = o.tangent_impulse;
-                        p.persisted = true;
-                    }
-                }
-                c.manifold = m;
-                key.touching = m.count > 0;
-                0
-            })
-            .sum();
+            }
+            c.manifold = m;
+            key.touching = m.count > 0;
+            0
+        };
+        let recycled = for_parts(
+            spread,
+            (&mut self.contacts[..], &mut self.contact_keys[..]),
+            self.wide.narrow_phase,
+            &|_, (contacts, keys): (&mut [Contact], &mut [ContactKey])| {
+                contacts
+                    .iter_mut()
+                    .zip(keys)
+                    .map(|(c, key)| collide_one(c, key))
+                    .sum::<usize>()
+            },
+            &|a, b| a + b,
+        );
         self.profile_recycled = recycled;
         for k in (0..self.contacts.len()).rev() {
             if self.contact_keys[k].remove {
@@ -1147,7 +1272,7 @@ impl World {
     }
 
     /// Prepare, the substep loop, restitution and storing impulses.
-    fn solve(&mut self, dt: f32, substeps: u32, profile: &mut StepProfile) {
+    fn solve(&mut self, dt: f32, substeps: u32, spread: Spread, profile: &mut StepProfile) {
         let t = Instant::now();
         let h = dt / substeps as f32;
         let inv_h = 1.0 / h;
@@ -1182,6 +1307,8 @@ impl World {
             self.solver_bodies.len(),
             &self.states,
             &params,
+            spread,
+            self.wide.prepare,
         );
         profile.colors = self.solver.active_colors();
         profile.overflow = self.solver.overflow_count();
@@ -1198,78 +1325,115 @@ impl World {
             restitution_threshold: s.restitution_threshold,
             restitution_iterations: s.restitution_iterations,
         };
-        // Small worlds are not worth waking the other workers for every stage.
-        let workers = if self.touching.len() < 256 {
-            1
+        // Below its threshold the solver runs on one worker: waking the others for every
+        // stage (a hundred a step) costs more than their share of a small colour.
+        let solve_spread = if spread.goes_wide(self.touching.len(), self.wide.solve) {
+            spread
         } else {
-            self.threads
+            Spread::INLINE
         };
         let (caps, workers) =
             self.solver
-                .run_substeps(&mut self.states, &self.motion, &step, workers);
+                .run_substeps(&mut self.states, &self.motion, &step, solve_spread);
         self.speed_caps += caps;
         profile.solver_workers = workers;
         profile.solve_ms = ms(t);
 
         let t = Instant::now();
-        self.solver
-            .store_impulses(&mut self.contacts, |contact, k, r| {
+        self.solver.store_impulses(
+            &mut self.contacts,
+            spread,
+            self.wide.prepare,
+            |contact, k, r| {
                 let mp = &mut contact.manifold.points[k];
                 mp.normal_impulse = r.normal_impulse;
                 mp.tangent_impulse = r.tangent_impulse;
                 mp.total_normal_impulse = r.total_normal_impulse;
                 mp.normal_velocity = r.relative_velocity;
-            });
+            },
+        );
         profile.store_impulses_ms = ms(t);
     }
 
     /// Applies each body's substep deltas to its transform, resets them, and grows the fat
     /// box of any body that left it (those become the next step's moved proxies).
-    fn finalize(&mut self, dt: f32) {
+    fn finalize(&mut self, dt: f32, spread: Spread) {
         let shapes = &self.shapes;
-        self.sims
-            .par_iter_mut()
-            .zip(self.states.par_iter_mut())
-            .zip(self.fat_aabbs.par_iter_mut())
-            .zip(self.moved_flags.par_iter_mut())
-            .zip(self.guarded.par_iter_mut())
-            .enumerate()
-            .with_min_len(256)
-            .for_each(|(i, ((((sim, st), fat), moved), guarded))| {
-                if sim.kind == BodyKind::Static {
-                    return;
-                }
-                // Box2D `b2FinalizeBodiesTask`: a body that moved more than half its thickness
-                // is fast, and its contacts are recomputed rather than recycled.
-                let max_motion = (st.dp.length() + st.dq.s.abs() * sim.extent)
-                    .max((st.v.length() + st.w.abs() * sim.extent) * dt);
-                sim.fast = max_motion > 0.5 * sim.min_extent;
-                let p = sim.xf.p + st.dp;
-                let q = st.dq.then_from(sim.xf.q).normalize();
-                st.dp = Vec2::ZERO;
-                st.dq = Rot::IDENTITY;
-                // Numerical guard: a body whose state went non-finite (it cannot with finite
-                // input, but a guard costs four compares) keeps its last finite pose and stops,
-                // rather than spreading NaN through its contacts.
-                if p.is_finite()
-                    && q.c.is_finite()
-                    && q.s.is_finite()
-                    && st.v.is_finite()
-                    && st.w.is_finite()
-                {
-                    sim.xf.p = p;
-                    sim.xf.q = q;
-                } else {
-                    st.v = Vec2::ZERO;
-                    st.w = 0.0;
-                    *guarded = true;
-                }
-                let tight = swept_aabb(&shapes[i], sim, st, dt);
-                if !fat.contains(&tight) {
-                    *fat = tight.grown(sim.margin);
-                    *moved = true;
-                }
-            });
+        let finalize_one = |i: usize,
+                            sim: &mut BodySim,
+                            st: &mut BodyState,
+                            fat: &mut Aabb,
+                            moved: &mut bool,
+                            guarded: &mut bool| {
+            if sim.kind == BodyKind::Static {
+                return;
+            }
+            // Box2D `b2FinalizeBodiesTask`: a body that moved more than half its thickness
+            // is fast, and its contacts are recomputed rather than recycled.
+            let max_motion = (st.dp.length() + st.dq.s.abs() * sim.extent)
+                .max((st.v.length() + st.w.abs() * sim.extent) * dt);
+            sim.fast = max_motion > 0.5 * sim.min_extent;
+            let p = sim.xf.p + st.dp;
+            let q = st.dq.then_from(sim.xf.q).normalize();
+            st.dp = Vec2::ZERO;
+            st.dq = Rot::IDENTITY;
+            // Numerical guard: a body whose state went non-finite (it cannot with finite
+            // input, but a guard costs four compares) keeps its last finite pose and stops,
+            // rather than spreading NaN through its contacts.
+            if p.is_finite()
+                && q.c.is_finite()
+                && q.s.is_finite()
+                && st.v.is_finite()
+                && st.w.is_finite()
+            {
+                sim.xf.p = p;
+                sim.xf.q = q;
+            } else {
+                st.v = Vec2::ZERO;
+                st.w = 0.0;
+                *guarded = true;
+            }
+            let tight = swept_aabb(&shapes[i], sim, st, dt);
+            if !fat.contains(&tight) {
+                *fat = tight.grown(sim.margin);
+                *moved = true;
+            }
+        };
+        let bodies = (
+            &mut self.sims[..],
+            &mut self.states[..],
+            &mut self.fat_aabbs[..],
+            &mut self.moved_flags[..],
+            &mut self.guarded[..],
+        );
+        type Bodies<'a> = (
+            &'a mut [BodySim],
+            &'a mut [BodyState],
+            &'a mut [Aabb],
+            &'a mut [bool],
+            &'a mut [bool],
+        );
+        for_each_part(spread, bodies, self.wide.finalize, &|offset,
+                                                            (
+            sims,
+            states,
+            fats,
+            moved,
+            guarded,
+        ): Bodies<
+            '_,
+        >| {
+            for (k, sim) in sims.iter_mut().enumerate() {
+                finalize_one(
+                    offset + k,
+                    sim,
+                    &mut states[k],
+                    &mut fats[k],
+                    &mut moved[k],
+                    &mut guarded[k],
+                );
+            }
+        });
         for (i, &m) in self.moved_flags.iter().enumerate() {
             if m {
                 self.moved.push(i as u32);

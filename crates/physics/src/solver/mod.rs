@@ -17,13 +17,13 @@ pub mod wide;
 
 use std::ops::Range;
 
-use rayon::prelude::*;
-
 use glam::Vec2;
 
 use crate::collision::Manifold;
 use crate::math::dot;
-use crate::parallel::{BodyStates, SharedSlice, StageBoard, worker_range};
+use crate::parallel::{
+    BodyStates, SharedSlice, Spread, StageBoard, for_each_part, for_parts, worker_range,
+};
 use contact_solver::{BodyState, ConstraintPoint, ContactConstraint, Softness};
 use graph_color::{COLOR_COUNT, GraphColoring, OVERFLOW};
 use wide::{LANES, LaneIndex, LaneInput, LaneWriter, WideConstraint};
@@ -106,6 +106,8 @@ pub struct Solver {
     slot_source: Vec<u32>,
     /// The stages of the last run of substeps (a buffer reused by the next run).
     plan: Vec<Stage>,
+    /// The board the last run on several workers used (its buffers reused by the next).
+    board: StageBoard,
     /// For each wide constraint, its lanes in use.
     wide_lanes: Vec<u8>,
     /// For each touching contact (by position in `touching`), its lane of a wide
@@ -159,7 +161,9 @@ impl Solver {
     }
 
     /// Colours the touching contacts and builds their constraints; `touching` lists them in
-    /// contact order, `body_count` is the world's.
+    /// contact order, `body_count` is the world's. Its loops are split over `spread` when
+    /// they hold at least `min_per_worker` touching contacts a worker.
+    #[allow(clippy::too_many_arguments)]
     pub fn prepare<C: SolverContact>(
         &mut self,
         touching: &[Touching],
@@ -167,7 +171,16 @@ impl Solver {
         body_count: usize,
         states: &[BodyState],
         params: &SolverParams,
+        spread: Spread,
+        min_per_worker: usize,
     ) {
+        // Wide constraints hold eight contacts, and checking a pair is ~10x cheaper than
+        // building a constraint: the thresholds in their units.
+        let (min, min_wide, min_check) = (
+            min_per_worker,
+            min_per_worker.div_ceil(LANES),
+            min_per_worker.saturating_mul(8),
+        );
         // The colouring is a function of the sequence of dynamic pairs alone (and of the
         // body count and whether colours are packed), so when that sequence is last step's
         // (a resting pile: 299 of 300 steps of large_pyramid) last step's colours, ranges and
@@ -175,13 +188,17 @@ impl Solver {
         let key = (body_count, self.use_wide);
         let same = self.colored_for == Some(key)
             && touching.len() == self.colored_pairs.len()
-            && touching
-                .par_iter()
-                .zip(self.colored_pairs.par_iter())
-                .with_min_len(4096)
-                .all(|(t, p)| t.dynamic == *p);
+            && for_parts(
+                spread,
+                (touching, &self.colored_pairs[..]),
+                min_check,
+                &|_, (t, p): (&[Touching], &[[u32; 2]])| {
+                    t.iter().zip(p).all(|(t, p)| t.dynamic == *p)
+                },
+                &|a, b| a && b,
+            );
         if !same {
-            self.color(touching, body_count);
+            self.color(touching, body_count, spread, min_check);
             self.colored_for = Some(key);
         }
         self.recolored = !same;
@@ -191,15 +208,18 @@ impl Solver {
         self.constraints
             .resize(scalar_len, ContactConstraint::default());
         let slot_source = &self.slot_source;
-        self.constraints
-            .par_iter_mut()
-            .with_min_len(256)
-            .enumerate()
-            .for_each(|(slot, con)| {
-                let contact_index = touching[slot_source[slot] as usize].contact;
-                let c = contacts[contact_index as usize].input();
-                *con = build_constraint(contact_index, &c, states, params);
-            });
+        for_each_part(
+            spread,
+            &mut self.constraints[..],
+            min,
+            &|offset, part: &mut [ContactConstraint]| {
+                for (k, con) in part.iter_mut().enumerate() {
+                    let contact_index = touching[slot_source[offset + k] as usize].contact;
+                    let c = contacts[contact_index as usize].input();
+                    *con = build_constraint(contact_index, &c, states, params);
+                }
+            },
+        );
 
         // The wide constraints, lane by lane in contact order (the contacts stream in; a walk
         // by constraint read them scattered, 60 ns a lane on large_pyramid), then each
@@ -214,39 +234,56 @@ impl Solver {
             #[allow(unsafe_code)]
             let writer = unsafe { LaneWriter::shared(&mut self.wide) };
             let lane_of = &self.lane_of;
-            (0..touching.len())
-                .into_par_iter()
-                .with_min_len(256)
-                .for_each(|k| {
-                    // The touching contacts lie sparse in the contact array where many pairs
-                    // only overlap (smash: a third touch), which the hardware does not
-                    // prefetch: 30% of this loop waited on the contact's first line.
-                    if let Some(ahead) = touching.get(k + 8) {
-                        crate::parallel::prefetch(&contacts[ahead.contact as usize]);
-                    }
-                    let at = lane_of[k];
-                    if at == NO_LANE {
-                        return;
-                    }
-                    let contact = touching[k].contact;
-                    let input = contacts[contact as usize].input();
-                    let [a, b] = &input.masses;
-                    let softness = params.softness(a, b);
-                    let lane = LaneInput {
-                        contact,
-                        input,
-                        softness,
-                    };
-                    writer.write(at, &lane, states, params.warm_starting);
-                });
+            let write_lane = |k: usize| {
+                // The touching contacts lie sparse in the contact array where many pairs
+                // only overlap (smash: a third touch), which the hardware does not
+                // prefetch: 30% of this loop waited on the contact's first line.
+                if let Some(ahead) = touching.get(k + 8) {
+                    crate::parallel::prefetch(&contacts[ahead.contact as usize]);
+                }
+                let at = lane_of[k];
+                if at == NO_LANE {
+                    return;
+                }
+                let contact = touching[k].contact;
+                let input = contacts[contact as usize].input();
+                let [a, b] = &input.masses;
+                let softness = params.softness(a, b);
+                let lane = LaneInput {
+                    contact,
+                    input,
+                    softness,
+                };
+                writer.write(at, &lane, states, params.warm_starting);
+            };
+            for_each_part(spread, 0..touching.len(), min, &|_, part: Range<usize>| {
+                part.for_each(write_lane)
+            });
         }
-        self.wide
-            .par_iter_mut()
-            .zip(self.wide_lanes.par_iter())
-            .with_min_len(64)
-            .for_each(|(w, &lanes)| w.finish(lanes as usize));
-        self.any_restitution = self.constraints.par_iter().any(|c| c.restitution > 0.0)
-            || self.wide.par_iter().any(|w| w.any_restitution());
+        for_each_part(
+            spread,
+            (&mut self.wide[..], &self.wide_lanes[..]),
+            min_wide,
+            &|_, (wide, lanes): (&mut [WideConstraint], &[u8])| {
+                for (w, &lanes) in wide.iter_mut().zip(lanes) {
+                    w.finish(lanes as usize);
+                }
+            },
+        );
+        let or = |a: bool, b: bool| a || b;
+        self.any_restitution = for_parts(
+            spread,
+            &self.constraints[..],
+            min_check,
+            &|_, part: &[ContactConstraint]| part.iter().any(|c| c.restitution > 0.0),
+            &or,
+        ) || for_parts(
+            spread,
+            &self.wide[..],
+            min_check.div_ceil(LANES),
+            &|_, part: &[WideConstraint]| part.iter().any(|w| w.any_restitution()),
+            &or,
+        );
     }
 
     /// Drops the kept colouring, so the next prepare colours from scratch (the same result:
@@ -258,7 +295,7 @@ impl Solver {
 
     /// Greedy colouring in contact order, then the colour ranges and where each touching
     /// contact goes: its slot among the scalar constraints, or its lane of a wide one.
-    fn color(&mut self, touching: &[Touching], body_count: usize) {
+    fn color(&mut self, touching: &[Touching], body_count: usize, spread: Spread, min: usize) {
         // The one serial part, so it reads only the compact `touching` records and the
         // per-body colour masks, never the contacts, and writes each contact's colour and
         // rank; the slots follow from those in parallel below.
@@ -282,7 +319,7 @@ impl Solver {
         }
         self.colored_pairs.clear();
         self.colored_pairs
-            .par_extend(touching.par_iter().map(|t| t.dynamic));
+            .extend(touching.iter().map(|t| t.dynamic));
         // Stage order: overflow, then colours ascending.
         let order: Vec<usize> = std::iter::once(OVERFLOW).chain(0..OVERFLOW).collect();
         let mut start = [0usize; COLOR_COUNT];
@@ -330,32 +367,40 @@ impl Solver {
         let wide_start: [usize; COLOR_COUNT] =
             std::array::from_fn(|c| self.wide_ranges.get(1 + c).map_or(0, |r| r.start));
         self.lane_of.clear();
-        self.lane_of.par_extend(
-            self.color_of
-                .par_iter()
-                .zip(self.rank_of.par_iter())
-                .with_min_len(1024)
-                .map(|(&color, &rank)| {
-                    let color = color as usize;
-                    if !use_wide || color == OVERFLOW {
-                        NO_LANE
-                    } else {
-                        let rank = rank as usize;
-                        let wide = wide_start[color] + rank / LANES;
-                        ((wide << 3) | (rank % LANES)) as LaneIndex
-                    }
-                }),
+        self.lane_of.resize(touching.len(), NO_LANE);
+        let lane = |color: u8, rank: u32| {
+            let color = color as usize;
+            if !use_wide || color == OVERFLOW {
+                NO_LANE
+            } else {
+                let rank = rank as usize;
+                let wide = wide_start[color] + rank / LANES;
+                ((wide << 3) | (rank % LANES)) as LaneIndex
+            }
+        };
+        for_each_part(
+            spread,
+            (&mut self.lane_of[..], &self.color_of[..], &self.rank_of[..]),
+            min,
+            &|_, (lanes, colors, ranks): (&mut [LaneIndex], &[u8], &[u32])| {
+                for ((at, &color), &rank) in lanes.iter_mut().zip(colors).zip(ranks) {
+                    *at = lane(color, rank);
+                }
+            },
         );
     }
 
-    /// Stores every constraint's impulses into its contact, in parallel: `store(contact,
-    /// point, impulses)` is called for each point of each constraint solved in the last step,
-    /// with `contact = &mut contacts[constraint's contact index]`. Each touching contact
-    /// became exactly one constraint, so no two calls share a contact.
+    /// Stores every constraint's impulses into its contact, over `spread` where there are
+    /// `min_per_worker` contacts a worker: `store(contact, point, impulses)` is called for
+    /// each point of each constraint solved in the last step, with `contact = &mut
+    /// contacts[constraint's contact index]`. Each touching contact became exactly one
+    /// constraint, so no two calls share a contact.
     #[allow(unsafe_code)]
     pub fn store_impulses<C: Send>(
         &self,
         contacts: &mut [C],
+        spread: Spread,
+        min_per_worker: usize,
         store: impl Fn(&mut C, usize, &PointResult) + Sync,
     ) {
         let contacts = SharedSlice::new(contacts);
@@ -383,33 +428,39 @@ impl Solver {
                 );
             }
         };
-        scalar.par_iter().with_min_len(256).for_each(store_scalar);
+        for_each_part(
+            spread,
+            scalar,
+            min_per_worker,
+            &|_, part: &[ContactConstraint]| part.iter().for_each(store_scalar),
+        );
         if self.use_wide {
             // In contact order, as prepare wrote the lanes: the contacts are written as a
             // stream and the lanes are read from one stream per colour.
             let (wide, lane_of) = (&self.wide, &self.lane_of);
-            (0..lane_of.len())
-                .into_par_iter()
-                .with_min_len(256)
-                .for_each(|k| {
-                    // As in prepare: fetch a contact a few ahead, the stream is sparse.
-                    if let Some(&ahead) = lane_of.get(k + 8)
-                        && ahead != NO_LANE
-                    {
-                        let i = wide[(ahead >> 3) as usize].contact_of((ahead & 7) as usize);
-                        crate::parallel::prefetch_ptr(contacts.as_ptr_at(i as usize));
-                    }
-                    let at = lane_of[k];
-                    if at == NO_LANE {
-                        return;
-                    }
-                    let w = &wide[(at >> 3) as usize];
-                    let lane = (at & 7) as usize;
-                    let i = w.contact_of(lane) as usize;
-                    // SAFETY: as above; a contact is in one lane of one wide constraint.
-                    let contact = unsafe { &mut contacts.range_mut(i..i + 1)[0] };
-                    w.lane_results(lane, |point, r| store(contact, point, r));
-                });
+            let store_lane = |k: usize| {
+                // As in prepare: fetch a contact a few ahead, the stream is sparse.
+                if let Some(&ahead) = lane_of.get(k + 8)
+                    && ahead != NO_LANE
+                {
+                    let i = wide[(ahead >> 3) as usize].contact_of((ahead & 7) as usize);
+                    crate::parallel::prefetch_ptr(contacts.as_ptr_at(i as usize));
+                }
+                let at = lane_of[k];
+                if at == NO_LANE {
+                    return;
+                }
+                let w = &wide[(at >> 3) as usize];
+                let lane = (at & 7) as usize;
+                let i = w.contact_of(lane) as usize;
+                // SAFETY: as above; a contact is in one lane of one wide constraint.
+                let contact = unsafe { &mut contacts.range_mut(i..i + 1)[0] };
+                w.lane_results(lane, |point, r| store(contact, point, r));
+            };
+            let all = 0..lane_of.len();
+            for_each_part(spread, all, min_per_worker, &|_, part: Range<usize>| {
+                part.for_each(store_lane)
+            });
         }
     }
 
@@ -450,9 +501,9 @@ impl Solver {
         self.color_ranges[0].len()
     }
 
-    /// Runs the substeps, then restitution, on `workers` threads of the current rayon pool
-    /// (1: on this thread, with no synchronisation). Returns how often a speed cap bit, and
-    /// the workers used.
+    /// Runs the substeps, then restitution, over `spread`: its workers of the rayon pool the
+    /// caller runs in, or inline on this thread with no synchronisation. Returns how often a
+    /// speed cap bit, and the workers used.
     ///
     /// The stages (Box2D v3's `b2SolverStage` list) are laid out once as a plan; one worker
     /// walks it and the others help with each stage through a [`StageBoard`]: a stage's
@@ -465,7 +516,7 @@ impl Solver {
         states: &mut [BodyState],
         motion: &[BodyMotion],
         step: &SubstepParams,
-        workers: usize,
+        spread: Spread,
     ) -> (u64, usize) {
         // Spinning workers beyond the core count only wait on each other: cap them there.
         let cores = if self.workers_beyond_cores {
@@ -473,7 +524,7 @@ impl Solver {
         } else {
             crate::default_thread_count()
         };
-        let workers = workers.max(1).min(rayon::current_num_threads()).min(cores);
+        let workers = spread.workers().min(cores);
         // The plan's buffer is kept from run to run: a steady scene's step allocates nothing.
         let mut plan = std::mem::take(&mut self.plan);
         self.plan_into(&mut plan, motion.len(), step, workers);
@@ -510,8 +561,9 @@ impl Solver {
         // (which touch disjoint dynamic bodies and write no other body), and the blocks of one
         // stage are disjoint; the board runs the stages one after another.
         let states = unsafe { BodyStates::shared(states) };
-        let board = StageBoard::new(plan.iter().map(|stage| stage.blocks).collect(), workers);
-        let caps: Vec<u64> = rayon::broadcast(|_| {
+        let mut board = std::mem::take(&mut self.board);
+        board.reset(plan.iter().map(|stage| stage.blocks), workers);
+        let caps = on_workers(workers, &|| {
             let mut caps = 0;
             let mut run = |s: usize, block: usize| {
                 let stage = &plan[s];
@@ -530,7 +582,8 @@ impl Solver {
             }
             caps
         });
-        (caps.iter().sum(), workers)
+        self.board = board;
+        (caps, workers)
     }
 
     /// The stages of one run of substeps, in order: per substep, integrate velocities, warm
@@ -591,6 +644,22 @@ impl Solver {
             }
         }
     }
+}
+
+/// Runs `worker` on up to `workers` threads of the current rayon pool and sums what they
+/// return. Forked with `rayon::join`, which allocates nothing (a broadcast allocates each
+/// call); a fork no idle thread steals runs after the others on the forking thread, which
+/// the stage board allows (a late follower finds its stages done).
+fn on_workers(workers: usize, worker: &(impl Fn() -> u64 + Sync)) -> u64 {
+    if workers <= 1 {
+        return worker();
+    }
+    let half = workers / 2;
+    let (a, b) = rayon::join(
+        || on_workers(workers - half, worker),
+        || on_workers(half, worker),
+    );
+    a + b
 }
 
 /// Builds one constraint from its contact: copies what the substeps need and computes the
@@ -948,7 +1017,7 @@ mod tests {
         let (touching, supports, bodies) = pyramid_contacts(60);
         let mut solver = Solver::new();
         solver.use_wide = true;
-        solver.color(&touching, bodies);
+        solver.color(&touching, bodies, Spread::INLINE, 1);
         assert_eq!(solver.overflow_count(), 0);
         let left_first = supports
             .iter()
