@@ -131,6 +131,26 @@ struct Size {
     bodies: usize,
     inline: Sample,
     wide: Sample,
+    /// Medians over the repeats of each pair's gain (inline minus split, run back to back, so
+    /// a slow spell of the machine falls on both): per stage, and the step's.
+    stage_gain: [f64; 5],
+    step_gain: f64,
+}
+
+impl Size {
+    fn of(bodies: usize, inline: &[Sample], wide: &[Sample]) -> Size {
+        let paired = |f: &dyn Fn(&Sample) -> f64| {
+            let gains: Vec<f64> = inline.iter().zip(wide).map(|(a, b)| f(a) - f(b)).collect();
+            median(&gains)
+        };
+        Size {
+            bodies,
+            inline: median_of(inline),
+            wide: median_of(wide),
+            stage_gain: std::array::from_fn(|k| paired(&|s| s.stage_ms[k])),
+            step_gain: paired(&|s| s.step_ms),
+        }
+    }
 }
 
 /// The smallest `count` from which on (at that size and every larger one) `gain` is
@@ -147,14 +167,20 @@ fn crossover(
     Some(count(&sizes[first]))
 }
 
+/// What a step's threshold counts: its contacts and moved proxies (`World` judges a step by
+/// the same sum).
+fn step_count(s: &Size) -> f64 {
+    s.inline.count[0] + s.inline.count[1]
+}
+
 /// Stage `k`'s gain from splitting it (ms a step).
 fn stage_gain(s: &Size, k: usize) -> f64 {
-    s.inline.stage_ms[k] - s.wide.stage_ms[k]
+    s.stage_gain[k]
 }
 
 /// The whole step's gain from running it on the pool with every stage split (ms a step).
 fn step_gain(s: &Size) -> f64 {
-    s.inline.step_ms - s.wide.step_ms
+    s.step_gain
 }
 
 /// Runs the measurement and writes the report.
@@ -181,11 +207,7 @@ pub fn run(args: &ThresholdsArgs) -> Result<()> {
             }
         }
         eprintln!("pile_{n}: done");
-        sizes.push(Size {
-            bodies: n,
-            inline: median_of(&inline),
-            wide: median_of(&wide),
-        });
+        sizes.push(Size::of(n, &inline, &wide));
     }
     let text = report(args, threads, &sizes, &load_before);
     print!("{text}");
@@ -203,7 +225,7 @@ fn report(args: &ThresholdsArgs, threads: usize, sizes: &[Size], load_before: &s
     );
     let _ = writeln!(
         md,
-        "Written by `tumble-bench thresholds`. Each size of the pile family (`pile_N`: N seeded boxes and circles dropped into a static box) is stepped {} times {} untimed steps, then {} timed, on {threads} threads twice, interleaved: every stage inline on the caller's thread (`WideThresholds::NEVER`), and every stage split over the threads (`WideThresholds::ALWAYS`). Figures are medians over the runs of per-step means from `World::profile()`. *outside* is the step's wall time outside its stages: in the split runs it holds waking the pool and handing the step back. A stage's split **pays** at a size when it gains (the stage is faster split); the step **pays** when the whole step is faster on the pool, wake included.\n",
+        "Written by `tumble-bench thresholds`. Each size of the pile family (`pile_N`: N seeded boxes and circles dropped into a static box) is stepped {} times {} untimed steps, then {} timed, on {threads} threads twice, interleaved: every stage inline on the caller's thread (`WideThresholds::NEVER`), and every stage split over the threads (`WideThresholds::ALWAYS`). Figures are medians over the runs of per-step means from `World::profile()`; a gain is the median of the paired runs' differences (each pair run back to back). *outside* is the step's wall time outside its stages: in the split runs it holds waking the pool and handing the step back. A stage's split **pays** at a size when it gains (the stage is faster split); the step **pays** when the whole step is faster on the pool, wake included.\n",
         args.repeats, args.warmup, args.steps
     );
     let _ = writeln!(md, "| | |\n|---|---|");
@@ -271,7 +293,7 @@ fn report(args: &ThresholdsArgs, threads: usize, sizes: &[Size], load_before: &s
             "{:>6} {:<13} {:>9.0} {:>10.4} {:>10.4} {:>8.4} {:>5}\n",
             s.bodies,
             "step",
-            s.inline.count[1],
+            step_count(s),
             s.inline.step_ms,
             s.wide.step_ms,
             step_gain(s),
@@ -281,7 +303,7 @@ fn report(args: &ThresholdsArgs, threads: usize, sizes: &[Size], load_before: &s
     let _ = writeln!(md, "```\n");
     let _ = writeln!(
         md,
-        "Crossovers: the smallest count from which on the split pays at every size measured, and the threshold it suggests: half that count (`WideThresholds` counts work per worker, and a stage splits when two workers get that much each). The step's count is its contacts. The defaults are `WideThresholds::default()` in the build measured.\n"
+        "Crossovers: the smallest count from which on the split pays at every size measured, and the threshold it suggests: half that count (`WideThresholds` counts work per worker, and a stage splits when two workers get that much each). The step's count is its contacts and moved proxies. The defaults are `WideThresholds::default()` in the build measured.\n"
     );
     let _ = writeln!(
         md,
@@ -290,7 +312,7 @@ fn report(args: &ThresholdsArgs, threads: usize, sizes: &[Size], load_before: &s
     let _ = writeln!(md, "|---|---|---:|---:|---:|");
     let d = WideThresholds::default();
     let rows = [
-        ("step", "contacts", d.step),
+        ("step", "contacts + moved", d.step),
         ("broad_phase", "moved", d.broad_phase),
         ("narrow_phase", "contacts", d.narrow_phase),
         ("prepare", "touching", d.prepare),
@@ -299,7 +321,7 @@ fn report(args: &ThresholdsArgs, threads: usize, sizes: &[Size], load_before: &s
     ];
     for (row, (stage, unit, default)) in rows.iter().enumerate() {
         let cross = if row == 0 {
-            crossover(sizes, |s| s.inline.count[1], step_gain)
+            crossover(sizes, step_count, step_gain)
         } else {
             let k = row - 1;
             crossover(sizes, |s| s.inline.count[k], |s| stage_gain(s, k))
@@ -327,18 +349,18 @@ mod tests {
             step_ms: 5.0 * ms + outside,
             outside_ms: outside,
         };
-        Size {
+        Size::of(
             bodies,
-            inline: sample(inline_ms, 0.001),
-            wide: sample(wide_ms, 0.001 + wake),
-        }
+            &[sample(inline_ms, 0.001)],
+            &[sample(wide_ms, 0.001 + wake)],
+        )
     }
 
     #[test]
     fn the_crossover_is_where_the_split_pays_from_on() {
         // Stage gains 0.001, -0.01, 0.004, 0.05, 0.2: the split pays from the third size on,
         // whose count is 200. Step gains (5 stages, a wake of 0.01): -0.005, -0.06, 0.01,
-        // 0.24, 0.99: from the third on as well.
+        // 0.24, 0.99: from the third on as well, whose contacts and moved make 400.
         let sizes = [
             size(25, 50.0, 0.002, 0.001, 0.01),
             size(50, 100.0, 0.02, 0.03, 0.01),
@@ -350,10 +372,7 @@ mod tests {
             crossover(&sizes, |s| s.inline.count[0], |s| stage_gain(s, 0)),
             Some(200.0)
         );
-        assert_eq!(
-            crossover(&sizes, |s| s.inline.count[1], step_gain),
-            Some(200.0)
-        );
+        assert_eq!(crossover(&sizes, step_count, step_gain), Some(400.0));
         // A split that does not pay at the largest size has no crossover.
         let never = [size(25, 50.0, 0.002, 0.003, 0.01)];
         assert_eq!(

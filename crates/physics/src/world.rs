@@ -226,9 +226,9 @@ pub fn set_thread_source(cores: usize, spawn: Option<SpawnWorker>) -> bool {
 /// threshold runs inline on the caller's thread without waking the pool. Results never depend
 /// on these (the tests of determinism run with [`WideThresholds::ALWAYS`] and the defaults).
 ///
-/// The defaults come from measurement (`cargo run --release -p tumble-physics --example
-/// wide_thresholds`, docs/bench/thresholds.md): each is about where splitting the stage over
-/// two workers begins to pay on this project's 2-core machine.
+/// The defaults come from measurement (`tumble-bench thresholds`, docs/bench/thresholds.md):
+/// each is about where splitting the stage over two workers begins to pay on this project's
+/// 2-core machine.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct WideThresholds {
     /// Contacts (and moved proxies, which make contacts), for the step to leave the caller's
@@ -270,13 +270,14 @@ impl WideThresholds {
 
 impl Default for WideThresholds {
     fn default() -> Self {
+        // docs/bench/thresholds.md: half of each measured crossover on 2 cores, rounded.
         WideThresholds {
-            step: 512,
-            broad_phase: 64,
-            narrow_phase: 256,
-            prepare: 512,
-            solve: 256,
-            finalize: 1024,
+            step: 1000,
+            broad_phase: 170,
+            narrow_phase: 320,
+            prepare: 800,
+            solve: 800,
+            finalize: 150,
         }
     }
 }
