@@ -1,5 +1,6 @@
 //! tumble-physics: a 2D rigid-body engine with Box2D v3's Soft Step solver and a step that
-//! rayon runs on the world's own thread pool.
+//! runs on the caller's thread and the world's own worker threads (started from a rayon pool,
+//! which on the web is made of Web Workers).
 //!
 //! The public surface is small: a [`World`] built from a [`SceneDef`] (or bodies added one by
 //! one), [`World::step`], [`StepSettings`] for the knobs that trade speed for accuracy, and a
@@ -21,6 +22,7 @@
 #![warn(missing_docs)]
 
 pub mod collision;
+mod crew;
 mod error;
 mod math;
 mod parallel;

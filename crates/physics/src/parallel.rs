@@ -14,6 +14,7 @@ use std::marker::PhantomData;
 use std::ops::Range;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+use crate::crew::Crew;
 use crate::solver::contact_solver::BodyState;
 
 /// Body states shared by the workers of one solver run.
@@ -145,28 +146,55 @@ pub fn prefetch_ptr<T>(ptr: *const T) {
     let _ = ptr;
 }
 
-/// How widely a step's stages may spread: over `workers` threads of the world's pool (the step
-/// then runs inside it), or inline on the caller's thread (`workers == 1`: no pool, no
-/// atomics, nothing but the stage's own loop).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Spread {
+/// How widely a step's stages may spread: over the world's crew (the caller's thread and its
+/// followers), or inline on the caller's thread (no crew: no atomics, nothing but the
+/// stage's own loop).
+#[derive(Clone, Copy)]
+pub struct Spread<'a> {
+    crew: Option<&'a Crew>,
     workers: usize,
 }
 
-impl Spread {
-    /// Everything on the calling thread.
-    pub const INLINE: Spread = Spread { workers: 1 };
+impl PartialEq for Spread<'_> {
+    fn eq(&self, other: &Self) -> bool {
+        self.workers == other.workers
+            && match (self.crew, other.crew) {
+                (Some(a), Some(b)) => std::ptr::eq(a, b),
+                (None, None) => true,
+                _ => false,
+            }
+    }
+}
 
-    /// Up to `workers` workers of the rayon pool the caller runs in.
-    pub fn over(workers: usize) -> Spread {
+impl std::fmt::Debug for Spread<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Spread({} workers)", self.workers)
+    }
+}
+
+impl<'a> Spread<'a> {
+    /// Everything on the calling thread.
+    pub const INLINE: Spread<'static> = Spread {
+        crew: None,
+        workers: 1,
+    };
+
+    /// The caller's thread and `crew`'s followers.
+    pub fn over(crew: &'a Crew) -> Spread<'a> {
         Spread {
-            workers: workers.max(1),
+            crew: Some(crew),
+            workers: crew.followers() + 1,
         }
     }
 
     /// Workers a stage may use.
     pub fn workers(self) -> usize {
         self.workers
+    }
+
+    /// The crew, when there is one.
+    pub fn crew(self) -> Option<&'a Crew> {
+        self.crew
     }
 
     /// Whether a stage of `items` items is split: only when every worker gets at least
@@ -234,57 +262,94 @@ split_tuple!(A 0, B 1, C 2);
 split_tuple!(A 0, B 1, C 2, D 3);
 split_tuple!(A 0, B 1, C 2, D 3, E 4);
 
+/// Most parts a stage is cut into (its slots live on the leader's stack).
+const MAX_PARTS: usize = 64;
+
+/// One part of a stage and its result, each touched by the one worker that claimed it.
+struct PartSlot<S, R> {
+    part: std::cell::UnsafeCell<Option<(usize, S)>>,
+    result: std::cell::UnsafeCell<Option<R>>,
+}
+
+/// The parts of one stage, claimed by index.
+struct Parts<S, R> {
+    slots: [PartSlot<S, R>; MAX_PARTS],
+    count: usize,
+    next: AtomicUsize,
+}
+
+// SAFETY: a slot is touched only by the worker that claimed its index from `next` (each index
+// is handed out once), and by the leader after every worker is done (`Crew::run` returns).
+unsafe impl<S: Send, R: Send> Sync for Parts<S, R> {}
+
 /// Runs `f(offset, part)` over parts of `data` that cover it once each (`offset`: the part's
-/// first index) and folds their results with `reduce`. One part, on this thread, unless
-/// `spread` goes wide for `data`'s length (see [`Spread::goes_wide`]); then the parts are
-/// forked with `rayon::join` (which allocates nothing) on the pool the caller runs in.
+/// first index) and folds their results with `reduce` in part order. One part, on this
+/// thread, unless `spread` goes wide for `data`'s length (see [`Spread::goes_wide`]); then
+/// the parts are claimed by the caller's thread and the crew's followers. Nothing allocates.
 ///
 /// The result is the same either way when `f` writes only its part and `reduce` is exact and
-/// associative (integer sums, `or`): the tests of determinism rely on it.
+/// associative (integer sums, `or`, concatenation): the tests of determinism rely on it.
 pub fn for_parts<S: Split, R: Send>(
-    spread: Spread,
+    spread: Spread<'_>,
     data: S,
     min_per_worker: usize,
     f: &(impl Fn(usize, S) -> R + Sync),
     reduce: &(impl Fn(R, R) -> R + Sync),
 ) -> R {
     let len = data.item_count();
-    if !spread.goes_wide(len, min_per_worker) {
-        return f(0, data);
-    }
-    debug_assert!(
-        rayon::current_thread_index().is_some(),
-        "a wide stage runs inside the world's pool"
-    );
-    // Four parts a worker, so one that finishes early takes another's last part, and never
+    let crew = match spread.crew {
+        Some(crew) if spread.goes_wide(len, min_per_worker) => crew,
+        _ => return f(0, data),
+    };
+    // Four parts a worker, so one that finishes early takes another's last ones, and none
     // below the minimum that pays for a part.
-    let grain = (len / (4 * spread.workers)).max(min_per_worker).max(1);
-    fork(0, data, grain, f, reduce)
-}
-
-fn fork<S: Split, R: Send>(
-    offset: usize,
-    data: S,
-    grain: usize,
-    f: &(impl Fn(usize, S) -> R + Sync),
-    reduce: &(impl Fn(R, R) -> R + Sync),
-) -> R {
-    let len = data.item_count();
-    if len < 2 * grain {
-        return f(offset, data);
+    let count = (4 * spread.workers)
+        .min(len / min_per_worker.max(1))
+        .clamp(1, MAX_PARTS);
+    let parts = Parts {
+        slots: std::array::from_fn(|_| PartSlot {
+            part: std::cell::UnsafeCell::new(None),
+            result: std::cell::UnsafeCell::new(None),
+        }),
+        count,
+        next: AtomicUsize::new(0),
+    };
+    let mut rest = Some(data);
+    for (k, slot) in parts.slots[..count].iter().enumerate() {
+        let (start, end) = (len * k / count, len * (k + 1) / count);
+        let (part, tail) = rest.take().expect("parts remain").split_at(end - start);
+        // SAFETY: no worker runs yet; the leader owns every slot.
+        unsafe { *slot.part.get() = Some((start, part)) };
+        rest = Some(tail);
     }
-    let mid = len / 2;
-    let (left, right) = data.split_at(mid);
-    let (a, b) = rayon::join(
-        || fork(offset, left, grain, f, reduce),
-        || fork(offset + mid, right, grain, f, reduce),
-    );
-    reduce(a, b)
+    // The closure takes `Parts` whole (its fields alone are not `Sync`).
+    let shared = &parts;
+    crew.run(&|| {
+        let parts = shared;
+        loop {
+            let k = parts.next.fetch_add(1, Ordering::Relaxed);
+            if k >= parts.count {
+                break;
+            }
+            let slot = &parts.slots[k];
+            // SAFETY: index k was handed to this worker alone (see `Parts`).
+            let (offset, part) = unsafe { (*slot.part.get()).take() }.expect("a part per slot");
+            let r = f(offset, part);
+            // SAFETY: as above.
+            unsafe { *slot.result.get() = Some(r) };
+        }
+    });
+    // SAFETY: every run of the job has returned (`Crew::run`): the leader owns the slots.
+    let mut results = parts.slots[..count]
+        .iter()
+        .map(|slot| unsafe { (*slot.result.get()).take() }.expect("every part ran"));
+    let first = results.next().expect("at least one part");
+    results.fold(first, reduce)
 }
 
 /// [`for_parts`] for a stage that returns nothing.
 pub fn for_each_part<S: Split>(
-    spread: Spread,
+    spread: Spread<'_>,
     data: S,
     min_per_worker: usize,
     f: &(impl Fn(usize, S) + Sync),
@@ -561,9 +626,9 @@ mod tests {
 
     #[test]
     fn parts_cover_every_item_once_inline_and_wide() {
-        // 1000 items at 40 per worker: inline, one part on this thread; split over 3 workers
-        // of a pool, parts of at least 40 (1000 / 12 = 83 per part, halved down to >= 83)
-        // that cover 0..1000 once, with offsets matching; the sums agree.
+        // 1000 items at 40 per worker: inline, one part on this thread; over the caller and
+        // two followers, 12 parts (four a worker) of 83 or 84, at least the 40, that cover
+        // 0..1000 once, with offsets matching; the sums agree.
         let data: Vec<u64> = (0..1000).collect();
         let mut out = vec![0u64; 1000];
         let parts = std::sync::Mutex::new(Vec::new());
@@ -584,28 +649,18 @@ mod tests {
         );
         assert_eq!(sum, 499_500);
         assert_eq!(*parts.lock().unwrap(), vec![0..1000]);
-        assert!(!Spread::over(3).goes_wide(79, 40) && Spread::over(3).goes_wide(80, 40));
+        let crew = Crew::start(crate::crew::tests::pool(2));
+        let three = Spread::over(&crew);
+        assert!(!three.goes_wide(79, 40) && three.goes_wide(80, 40));
 
         parts.lock().unwrap().clear();
         out.fill(0);
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(3)
-            .build()
-            .unwrap();
-        let sum = pool.install(|| {
-            for_parts(
-                Spread::over(3),
-                (&data[..], &mut out[..]),
-                40,
-                &square,
-                &|a, b| a + b,
-            )
-        });
+        let sum = for_parts(three, (&data[..], &mut out[..]), 40, &square, &|a, b| a + b);
         assert_eq!(sum, 499_500);
         assert!(out.iter().enumerate().all(|(i, &v)| v == (i * i) as u64));
         let mut parts = parts.into_inner().unwrap();
         parts.sort_by_key(|r| r.start);
-        assert!(parts.len() > 1, "no split: {parts:?}");
+        assert_eq!(parts.len(), 12, "{parts:?}");
         assert!(
             parts.iter().all(|r| r.len() >= 40),
             "a part below the minimum: {parts:?}"

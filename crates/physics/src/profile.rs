@@ -34,7 +34,7 @@ pub struct StepProfile {
     /// worker, never more than cores).
     pub solver_workers: usize,
     /// The step ran inline on the caller's thread: one thread, or no stage reached its
-    /// `WideThresholds` (the pool was not woken).
+    /// `WideThresholds` (the crew was not woken).
     pub inline: bool,
     /// Contacts whose manifold was recycled rather than recomputed.
     pub recycled: usize,

@@ -1,15 +1,15 @@
-//! The world: bodies and contacts in flat arrays, the thread pool, and the step pipeline.
+//! The world: bodies and contacts in flat arrays, the worker threads, and the step pipeline.
 //!
 //! `step` runs the stages in order, each timed into [`StepProfile`]:
 //! broad phase → narrow phase → prepare → substeps (solve) → restitution → finalize.
-//! Stages that run in parallel (narrow phase, finalize) write only their own index's slot, so
-//! their results are the same on any thread count.
+//! A step runs on the caller's thread; when it is large enough (`WideThresholds`) its
+//! stages are shared with the world's crew of worker threads. Shared stages write only their
+//! own index's slot or part, so their results are the same on any thread count.
 
 #[cfg(not(target_arch = "wasm32"))]
 use std::time::Instant;
 
 use glam::Vec2;
-use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 // `std::time::Instant` panics on the web; web-time's reads `performance.now()` there.
 #[cfg(target_arch = "wasm32")]
@@ -17,6 +17,7 @@ use web_time::Instant;
 
 use crate::collision::broad_phase::BroadPhase;
 use crate::collision::{Manifold, collide};
+use crate::crew::Crew;
 use crate::error::{SceneError, SettingsError};
 use crate::math::{Rot, Transform};
 use crate::parallel::{Spread, for_each_part, for_parts};
@@ -223,7 +224,7 @@ pub fn set_thread_source(cores: usize, spawn: Option<SpawnWorker>) -> bool {
 
 /// The least work per worker for which a stage of the step is split over the world's threads:
 /// below it the stage runs on one thread, and a step none of whose stages reaches its
-/// threshold runs inline on the caller's thread without waking the pool. Results never depend
+/// threshold runs inline on the caller's thread without waking the crew. Results never depend
 /// on these (the tests of determinism run with [`WideThresholds::ALWAYS`] and the defaults).
 ///
 /// The defaults come from measurement (`tumble-bench thresholds`, docs/bench/thresholds.md):
@@ -232,8 +233,8 @@ pub fn set_thread_source(cores: usize, spawn: Option<SpawnWorker>) -> bool {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct WideThresholds {
     /// Contacts (and moved proxies, which make contacts), for the step to leave the caller's
-    /// thread at all: below it every stage runs inline (waking the pool and handing the step
-    /// back cost ~20 us a step).
+    /// thread at all: below it every stage runs inline (each split stage costs a hand-off to
+    /// the followers and a wait for the last part).
     pub step: usize,
     /// Moved proxies, for the broad phase's queries.
     pub broad_phase: usize,
@@ -454,9 +455,9 @@ pub struct World {
     touching: Vec<Touching>,
     solver_bodies: Vec<SolverBody>,
     motion: Vec<BodyMotion>,
-    /// `None` at one thread, and where the platform has no threads (see
-    /// [`set_thread_source`]): every step then runs inline on the caller's thread.
-    pool: Option<std::sync::Arc<rayon::ThreadPool>>,
+    /// The threads that help the caller's with a wide step; `None` at one thread, and where
+    /// the platform has no threads (see [`set_thread_source`]): every step is then inline.
+    crew: Option<std::sync::Arc<Crew>>,
     threads: usize,
     wide: WideThresholds,
     profile: StepProfile,
@@ -465,21 +466,22 @@ pub struct World {
     profile_recycled: usize,
 }
 
-fn build_pool(threads: usize) -> Option<std::sync::Arc<rayon::ThreadPool>> {
+/// The crew for `threads` threads: the caller's and `threads - 1` followers.
+fn start_crew(threads: usize) -> Option<std::sync::Arc<Crew>> {
     if threads <= 1 {
         return None;
     }
     let builder = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
+        .num_threads(threads - 1)
         .thread_name(|i| format!("tumble-step-{i}"));
     let pool = match THREAD_SOURCE.get() {
         None => builder.build(),
         Some(&(_, Some(spawn))) => builder.spawn_handler(spawn).build(),
         Some(&(_, None)) => return None,
     }
-    // Building a pool only fails if the OS refuses threads; then nothing can run.
+    // Starting threads only fails if the OS refuses them; then nothing can run.
     .expect("the OS refused to start the step's worker threads");
-    Some(std::sync::Arc::new(pool))
+    Some(std::sync::Arc::new(Crew::start(pool)))
 }
 
 impl World {
@@ -507,7 +509,7 @@ impl World {
             touching: Vec::new(),
             solver_bodies: Vec::new(),
             motion: Vec::new(),
-            pool: build_pool(threads),
+            crew: start_crew(threads),
             threads,
             wide: WideThresholds::default(),
             profile: StepProfile::default(),
@@ -669,7 +671,9 @@ impl World {
             threads.max(1)
         };
         if threads != self.threads {
-            self.pool = build_pool(threads);
+            // The old crew's threads are told to exit before the new ones start.
+            self.crew = None;
+            self.crew = start_crew(threads);
             self.threads = threads;
         }
     }
@@ -988,33 +992,30 @@ impl World {
             self.profile = profile;
             return;
         }
-        let spread = self.spread_for_step();
-        // Only a wide step touches the pool (an inline one takes not even its reference count).
-        let pool = if spread == Spread::INLINE {
-            None
+        // Only a wide step touches the crew (an inline one takes not even its reference
+        // count). The step runs on this thread either way; a wide one's stages are shared.
+        let crew = if self.goes_wide() {
+            self.crew.clone()
         } else {
-            self.pool.clone()
+            None
         };
-        let mut run = || {
-            let t = Instant::now();
-            self.update_pairs(spread);
-            profile.broad_phase_ms = ms(t);
+        let spread = crew.as_deref().map_or(Spread::INLINE, Spread::over);
 
-            let t = Instant::now();
-            self.collide(dt, spread);
-            profile.narrow_phase_ms = ms(t);
+        let t = Instant::now();
+        self.update_pairs(spread);
+        profile.broad_phase_ms = ms(t);
 
-            self.solve(dt, substeps, spread, &mut profile);
+        let t = Instant::now();
+        self.collide(dt, spread);
+        profile.narrow_phase_ms = ms(t);
 
-            let t = Instant::now();
-            self.finalize(dt, spread);
-            profile.finalize_ms = ms(t);
-        };
-        match pool {
-            Some(pool) => pool.install(run),
-            None => run(),
-        }
-        profile.inline = spread == Spread::INLINE;
+        self.solve(dt, substeps, spread, &mut profile);
+
+        let t = Instant::now();
+        self.finalize(dt, spread);
+        profile.finalize_ms = ms(t);
+
+        profile.inline = crew.is_none();
         self.steps += 1;
         profile.bodies = self.sims.len();
         profile.contacts = self.contacts.len();
@@ -1031,31 +1032,28 @@ impl World {
         dt > 0.0 && dt.is_normal() && substeps > 0 && (dt / substeps as f32).is_normal()
     }
 
-    /// Inline unless the step has [`WideThresholds::step`]'s contacts and some stage of it
-    /// would be split, judged on the counts the step starts from (a stage whose count crosses its threshold during the
-    /// step runs on one thread until the next step).
-    fn spread_for_step(&self) -> Spread {
-        if self.pool.is_none() {
-            return Spread::INLINE;
-        }
-        let all = Spread::over(self.threads);
+    /// Whether this step shares its stages with the crew: when there is one, the step has
+    /// [`WideThresholds::step`]'s contacts and moved proxies, and some stage of it would be
+    /// split, judged on the counts the step starts from (a stage whose count crosses its
+    /// threshold during the step runs on one thread until the next step).
+    fn goes_wide(&self) -> bool {
+        let Some(crew) = &self.crew else {
+            return false;
+        };
+        let all = Spread::over(crew);
         let (w, contacts) = (&self.wide, self.contact_keys.len());
         let split = all.goes_wide(self.moved.len(), w.broad_phase)
             || all.goes_wide(contacts, w.narrow_phase)
             || all.goes_wide(self.touching.len(), w.prepare.min(w.solve))
             || all.goes_wide(self.sims.len(), w.finalize);
         // A new scene's first step has no contacts yet, but its moved proxies will make them.
-        if split && all.goes_wide(contacts + self.moved.len(), w.step) {
-            all
-        } else {
-            Spread::INLINE
-        }
+        split && all.goes_wide(contacts + self.moved.len(), w.step)
     }
 
     /// Broad phase: rebuild the tree if a fat box changed, then find the new pairs of every
     /// moved proxy (in parallel, each into its own list) and create their contacts serially
     /// in moved order.
-    fn update_pairs(&mut self, spread: Spread) {
+    fn update_pairs(&mut self, spread: Spread<'_>) {
         if self.moved.is_empty() {
             return;
         }
@@ -1115,14 +1113,14 @@ impl World {
                 };
                 Some((u64::from(rank[finder as usize]) << 32) | u64::from(other))
             };
-            // The top six levels of the walk as tasks when wide (64 of them, a few per worker).
-            let wide = spread.goes_wide(self.moved.len(), self.wide.broad_phase);
-            let mut found = bp.overlapping_pairs_parallel(aabbs, if wide { 6 } else { 0 }, &keep);
-            if wide {
-                found.par_sort_unstable();
+            let walk = if spread.goes_wide(self.moved.len(), self.wide.broad_phase) {
+                spread
             } else {
-                found.sort_unstable();
-            }
+                Spread::INLINE
+            };
+            let mut found = bp.overlapping_pairs_parallel(aabbs, walk, &keep);
+            // Each task's pairs come sorted: a merge sort joins the runs in O(n log tasks).
+            found.sort();
             let moved = std::mem::take(&mut self.moved);
             for key in found {
                 let (finder, other) = (moved[(key >> 32) as usize], key as u32);
@@ -1202,7 +1200,7 @@ impl World {
     /// Narrow phase: every contact computes its manifold into its own slot, carrying
     /// impulses over by feature id; contacts whose fat boxes parted are then removed in
     /// descending index order, so the surviving order is deterministic.
-    fn collide(&mut self, dt: f32, spread: Spread) {
+    fn collide(&mut self, dt: f32, spread: Spread<'_>) {
         let sims = &self.sims;
         let states = &self.states;
         let shapes = &self.shapes;
@@ -1273,7 +1271,7 @@ impl World {
     }
 
     /// Prepare, the substep loop, restitution and storing impulses.
-    fn solve(&mut self, dt: f32, substeps: u32, spread: Spread, profile: &mut StepProfile) {
+    fn solve(&mut self, dt: f32, substeps: u32, spread: Spread<'_>, profile: &mut StepProfile) {
         let t = Instant::now();
         let h = dt / substeps as f32;
         let inv_h = 1.0 / h;
@@ -1358,7 +1356,7 @@ impl World {
 
     /// Applies each body's substep deltas to its transform, resets them, and grows the fat
     /// box of any body that left it (those become the next step's moved proxies).
-    fn finalize(&mut self, dt: f32, spread: Spread) {
+    fn finalize(&mut self, dt: f32, spread: Spread<'_>) {
         let shapes = &self.shapes;
         let finalize_one = |i: usize,
                             sim: &mut BodySim,
@@ -1798,6 +1796,8 @@ mod tests {
         let pyramid = || {
             let mut w = World::new(StepSettings::default());
             w.set_workers_beyond_cores(true);
+            // A 465-body pyramid is inline by default: split it anyway.
+            w.set_wide_thresholds(WideThresholds::ALWAYS);
             let ground = BodyDef::new(ShapeDef::Box {
                 half_extents: [40.0, 0.5],
             });

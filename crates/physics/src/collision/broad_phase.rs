@@ -7,10 +7,18 @@
 //! changes. Pair finding queries the tree only with moved proxies, so its cost follows what
 //! moved, not the body count.
 
+use crate::parallel::{Spread, for_parts};
 use crate::shape::Aabb;
 
 /// Most proxies in a leaf: below this a linear scan beats descending further.
 const LEAF_SIZE: usize = 4;
+
+/// A piece of the tree's walk against itself: one subtree's pairs, or the pairs between two.
+#[derive(Clone, Copy, Debug)]
+enum Walk {
+    Within(usize),
+    Between(usize, usize),
+}
 
 /// A tree node: an internal node's children, or a leaf's range of `items`.
 #[derive(Clone, Copy, Debug)]
@@ -169,70 +177,68 @@ impl BroadPhase {
         }
     }
 
-    /// [`overlapping_pairs`](Self::overlapping_pairs) on the current rayon pool: the top
-    /// `depth` levels of the walk are split into tasks, each keeping what `keep` returns for
-    /// its pairs; the order of the result is not defined (callers sort it).
-    pub fn overlapping_pairs_parallel<T: Send>(
+    /// [`overlapping_pairs`](Self::overlapping_pairs) over `spread`: the top six levels of
+    /// the walk are cut into pieces (up to a few hundred), which the workers share, each
+    /// keeping what `keep` returns for its pairs, sorted; the pieces' lists are joined in
+    /// order, so the result is sorted runs, one a part (callers sort it).
+    pub(crate) fn overlapping_pairs_parallel<T: Send + Ord>(
         &self,
         aabbs: &[Aabb],
-        depth: u32,
+        spread: Spread<'_>,
         keep: &(impl Fn(u32, u32) -> Option<T> + Sync),
     ) -> Vec<T> {
         if self.nodes.is_empty() {
             return Vec::new();
         }
-        self.par_within(0, depth, aabbs, keep)
+        let mut walks = Vec::new();
+        let depth = if spread.workers() > 1 { 6 } else { 0 };
+        self.walks_within(0, depth, &mut walks);
+        for_parts(
+            spread,
+            &walks[..],
+            1,
+            &|_, part: &[Walk]| {
+                let mut out = Vec::new();
+                for walk in part {
+                    let mut found = |p, q| out.extend(keep(p, q));
+                    match *walk {
+                        Walk::Within(n) => self.pairs_within(n, aabbs, &mut found),
+                        Walk::Between(a, b) => self.pairs_between(a, b, aabbs, &mut found),
+                    }
+                }
+                out.sort_unstable();
+                out
+            },
+            &|mut a, b| {
+                a.extend(b);
+                a
+            },
+        )
     }
 
-    fn par_within<T: Send>(
-        &self,
-        n: usize,
-        depth: u32,
-        aabbs: &[Aabb],
-        keep: &(impl Fn(u32, u32) -> Option<T> + Sync),
-    ) -> Vec<T> {
+    /// The pieces of the walk within subtree `n`, cut `depth` levels down.
+    fn walks_within(&self, n: usize, depth: u32, out: &mut Vec<Walk>) {
         let node = self.nodes[n];
         if depth == 0 || node.is_leaf() {
-            let mut out = Vec::new();
-            self.pairs_within(n, aabbs, &mut |p, q| out.extend(keep(p, q)));
-            return out;
+            out.push(Walk::Within(n));
+            return;
         }
         let left = node.child_or_first as usize;
-        let ((mut a, b), c) = rayon::join(
-            || {
-                rayon::join(
-                    || self.par_within(left, depth - 1, aabbs, keep),
-                    || self.par_within(left + 1, depth - 1, aabbs, keep),
-                )
-            },
-            || self.par_between(left, left + 1, depth - 1, aabbs, keep),
-        );
-        a.extend(b);
-        a.extend(c);
-        a
+        self.walks_within(left, depth - 1, out);
+        self.walks_within(left + 1, depth - 1, out);
+        self.walks_between(left, left + 1, depth - 1, out);
     }
 
-    fn par_between<T: Send>(
-        &self,
-        a: usize,
-        b: usize,
-        depth: u32,
-        aabbs: &[Aabb],
-        keep: &(impl Fn(u32, u32) -> Option<T> + Sync),
-    ) -> Vec<T> {
+    /// The pieces of the walk of subtree `a` against subtree `b`, cut `depth` levels down.
+    fn walks_between(&self, a: usize, b: usize, depth: u32, out: &mut Vec<Walk>) {
         let (na, nb) = (self.nodes[a], self.nodes[b]);
         if depth == 0 || na.is_leaf() || nb.is_leaf() || !na.aabb.overlaps(&nb.aabb) {
-            let mut out = Vec::new();
-            self.pairs_between(a, b, aabbs, &mut |p, q| out.extend(keep(p, q)));
-            return out;
+            out.push(Walk::Between(a, b));
+            return;
         }
         let [(a1, b1), (a2, b2)] = self.split_pair(a, b);
-        let (mut x, y) = rayon::join(
-            || self.par_between(a1, b1, depth - 1, aabbs, keep),
-            || self.par_between(a2, b2, depth - 1, aabbs, keep),
-        );
-        x.extend(y);
-        x
+        self.walks_between(a1, b1, depth - 1, out);
+        self.walks_between(a2, b2, depth - 1, out);
     }
 
     /// The two node pairs a walk of nodes `a` against `b` (not both leaves) descends to: it
@@ -383,10 +389,13 @@ mod tests {
         }
         assert!(brute.len() > 100, "the scatter overlaps enough to test");
         assert_eq!(found, brute);
-        let mut parallel =
-            bp.overlapping_pairs_parallel(&aabbs, 4, &|p, q| Some((p.min(q), p.max(q))));
-        parallel.sort();
-        assert_eq!(parallel, brute);
+        let crew = crate::crew::Crew::start(crate::crew::tests::pool(1));
+        for spread in [Spread::INLINE, Spread::over(&crew)] {
+            let pair = |p: u32, q: u32| Some((p.min(q), p.max(q)));
+            let mut parallel = bp.overlapping_pairs_parallel(&aabbs, spread, &pair);
+            parallel.sort();
+            assert_eq!(parallel, brute, "{spread:?}");
+        }
     }
 
     #[test]

@@ -16,6 +16,7 @@ pub mod lanes;
 pub mod wide;
 
 use std::ops::Range;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use glam::Vec2;
 
@@ -171,7 +172,7 @@ impl Solver {
         body_count: usize,
         states: &[BodyState],
         params: &SolverParams,
-        spread: Spread,
+        spread: Spread<'_>,
         min_per_worker: usize,
     ) {
         // Wide constraints hold eight contacts, and checking a pair is ~10x cheaper than
@@ -295,7 +296,7 @@ impl Solver {
 
     /// Greedy colouring in contact order, then the colour ranges and where each touching
     /// contact goes: its slot among the scalar constraints, or its lane of a wide one.
-    fn color(&mut self, touching: &[Touching], body_count: usize, spread: Spread, min: usize) {
+    fn color(&mut self, touching: &[Touching], body_count: usize, spread: Spread<'_>, min: usize) {
         // The one serial part, so it reads only the compact `touching` records and the
         // per-body colour masks, never the contacts, and writes each contact's colour and
         // rank; the slots follow from those in parallel below.
@@ -399,7 +400,7 @@ impl Solver {
     pub fn store_impulses<C: Send>(
         &self,
         contacts: &mut [C],
-        spread: Spread,
+        spread: Spread<'_>,
         min_per_worker: usize,
         store: impl Fn(&mut C, usize, &PointResult) + Sync,
     ) {
@@ -501,8 +502,8 @@ impl Solver {
         self.color_ranges[0].len()
     }
 
-    /// Runs the substeps, then restitution, over `spread`: its workers of the rayon pool the
-    /// caller runs in, or inline on this thread with no synchronisation. Returns how often a
+    /// Runs the substeps, then restitution, over `spread`: this thread and its crew's
+    /// followers, or inline on this thread with no synchronisation. Returns how often a
     /// speed cap bit, and the workers used.
     ///
     /// The stages (Box2D v3's `b2SolverStage` list) are laid out once as a plan; one worker
@@ -516,7 +517,7 @@ impl Solver {
         states: &mut [BodyState],
         motion: &[BodyMotion],
         step: &SubstepParams,
-        spread: Spread,
+        spread: Spread<'_>,
     ) -> (u64, usize) {
         // Spinning workers beyond the core count only wait on each other: cap them there.
         let cores = if self.workers_beyond_cores {
@@ -528,7 +529,7 @@ impl Solver {
         // The plan's buffer is kept from run to run: a steady scene's step allocates nothing.
         let mut plan = std::mem::take(&mut self.plan);
         self.plan_into(&mut plan, motion.len(), step, workers);
-        let result = self.run_plan(&plan, states, motion, step, workers);
+        let result = self.run_plan(&plan, states, motion, step, spread, workers);
         self.plan = plan;
         result
     }
@@ -541,6 +542,7 @@ impl Solver {
         states: &mut [BodyState],
         motion: &[BodyMotion],
         step: &SubstepParams,
+        spread: Spread<'_>,
         workers: usize,
     ) -> (u64, usize) {
         let passes = Passes {
@@ -561,14 +563,17 @@ impl Solver {
         // (which touch disjoint dynamic bodies and write no other body), and the blocks of one
         // stage are disjoint; the board runs the stages one after another.
         let states = unsafe { BodyStates::shared(states) };
+        let crew = spread.crew().expect("several workers come with a crew");
         let mut board = std::mem::take(&mut self.board);
         board.reset(plan.iter().map(|stage| stage.blocks), workers);
-        let caps = on_workers(workers, &|| {
-            let mut caps = 0;
+        // Each worker's speed-cap count; a sum of integers, so who counted which is moot.
+        let caps = AtomicU64::new(0);
+        crew.run(&|| {
+            let mut mine = 0;
             let mut run = |s: usize, block: usize| {
                 let stage = &plan[s];
                 let items = worker_range(&stage.items, block, stage.blocks);
-                caps += passes.run(stage, items, &states, motion, step);
+                mine += passes.run(stage, items, &states, motion, step);
             };
             match board.join() {
                 Some(0) => {
@@ -580,10 +585,10 @@ impl Solver {
                 Some(share) => board.follow(share, &mut run),
                 None => {}
             }
-            caps
+            caps.fetch_add(mine, Ordering::Relaxed);
         });
         self.board = board;
-        (caps, workers)
+        (caps.into_inner(), workers)
     }
 
     /// The stages of one run of substeps, in order: per substep, integrate velocities, warm
@@ -644,22 +649,6 @@ impl Solver {
             }
         }
     }
-}
-
-/// Runs `worker` on up to `workers` threads of the current rayon pool and sums what they
-/// return. Forked with `rayon::join`, which allocates nothing (a broadcast allocates each
-/// call); a fork no idle thread steals runs after the others on the forking thread, which
-/// the stage board allows (a late follower finds its stages done).
-fn on_workers(workers: usize, worker: &(impl Fn() -> u64 + Sync)) -> u64 {
-    if workers <= 1 {
-        return worker();
-    }
-    let half = workers / 2;
-    let (a, b) = rayon::join(
-        || on_workers(workers - half, worker),
-        || on_workers(half, worker),
-    );
-    a + b
 }
 
 /// Builds one constraint from its contact: copies what the substeps need and computes the
