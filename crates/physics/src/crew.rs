@@ -18,6 +18,8 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicPtr, AtomicUsize, Ordering};
 
+use crate::parallel::Parking;
+
 /// A job as the followers see it: the leader's closure, lifetime erased (see `Crew::run`).
 type JobFn = dyn Fn() + Sync;
 
@@ -37,18 +39,13 @@ struct Board {
     poisoned: AtomicBool,
     /// The crew is being dropped: followers return.
     exit: AtomicBool,
-    /// Followers asleep between jobs, and what wakes them.
-    sleepers: AtomicUsize,
-    lock: std::sync::Mutex<()>,
-    wake: std::sync::Condvar,
+    /// Followers waiting for a job (they spin briefly, then sleep: see `Parking`; a sleeping
+    /// follower costs the leader a wake-up call, not its latency, since the leader starts
+    /// each job alone and the follower joins when it is up).
+    idle: Parking,
+    /// The leader waiting for the followers inside a closed job.
+    leaving: Parking,
 }
-
-/// How long a follower spins, then yields, after its last job before it sleeps. Short, as
-/// rayon's idle workers are: a follower that spins on a busy machine takes the core from the
-/// leader (measured on 2 cores under load 3: 1 ms of idle spinning made large_pyramid's
-/// 2-thread step 2x slower). A sleeping follower costs the leader only the wake-up call: the
-/// leader starts each job alone and the follower joins when it is up.
-const IDLE_BEFORE_SLEEP: std::time::Duration = std::time::Duration::from_micros(50);
 
 impl Board {
     fn follow(&self) {
@@ -56,10 +53,13 @@ impl Board {
         // starts late still sees the job published before it (and skips it if closed).
         let mut seen = 0;
         loop {
-            seen = match self.next_generation(seen) {
-                Some(g) => g,
-                None => return,
-            };
+            self.idle.wait(|| {
+                self.generation.load(Ordering::SeqCst) != seen || self.exit.load(Ordering::SeqCst)
+            });
+            if self.exit.load(Ordering::SeqCst) {
+                return;
+            }
+            seen = self.generation.load(Ordering::SeqCst);
             self.active.fetch_add(1, Ordering::SeqCst);
             // Joined in time: the job is still the one seen, and open. Otherwise leave
             // before touching it (the leader may be past waiting for us).
@@ -72,64 +72,9 @@ impl Board {
                 }
             }
             self.active.fetch_sub(1, Ordering::SeqCst);
+            self.leaving.notify();
         }
     }
-
-    /// Waits for a generation other than `seen`; `None` when the crew exits.
-    fn next_generation(&self, seen: usize) -> Option<usize> {
-        let ready = || {
-            let g = self.generation.load(Ordering::SeqCst);
-            (g != seen || self.exit.load(Ordering::SeqCst)).then_some(g)
-        };
-        let start = web_or_std_now();
-        let mut spins = 0u32;
-        loop {
-            if let Some(g) = ready() {
-                return (!self.exit.load(Ordering::SeqCst)).then_some(g);
-            }
-            spins = spins.saturating_add(1);
-            if spins < 1 << 10 {
-                std::hint::spin_loop();
-                continue;
-            }
-            // In a Web Worker `yield_now` does nothing: sleep sooner there.
-            let slept_enough = cfg!(target_arch = "wasm32") || start.elapsed() > IDLE_BEFORE_SLEEP;
-            if !slept_enough {
-                std::thread::yield_now();
-                continue;
-            }
-            let mut guard = self.lock.lock().unwrap_or_else(|e| e.into_inner());
-            self.sleepers.fetch_add(1, Ordering::SeqCst);
-            while ready().is_none() {
-                // The timeout is a backstop only: the leader wakes the sleepers.
-                let timeout = std::time::Duration::from_millis(5);
-                guard = match self.wake.wait_timeout(guard, timeout) {
-                    Ok((g, _)) => g,
-                    Err(e) => e.into_inner().0,
-                };
-            }
-            self.sleepers.fetch_sub(1, Ordering::SeqCst);
-            drop(guard);
-            spins = 0;
-        }
-    }
-
-    fn notify(&self) {
-        if self.sleepers.load(Ordering::SeqCst) > 0 {
-            let _guard = self.lock.lock();
-            self.wake.notify_all();
-        }
-    }
-}
-
-#[cfg(not(target_arch = "wasm32"))]
-fn web_or_std_now() -> std::time::Instant {
-    std::time::Instant::now()
-}
-
-#[cfg(target_arch = "wasm32")]
-fn web_or_std_now() -> web_time::Instant {
-    web_time::Instant::now()
 }
 
 /// The leader's side of a job: closes it and waits for the followers inside it, also when
@@ -138,16 +83,11 @@ struct CloseOnExit<'a>(&'a Board);
 
 impl Drop for CloseOnExit<'_> {
     fn drop(&mut self) {
-        self.0.open.store(false, Ordering::SeqCst);
-        let mut spins = 0u32;
-        while self.0.active.load(Ordering::SeqCst) != 0 {
-            spins = spins.saturating_add(1);
-            if spins < 1 << 10 {
-                std::hint::spin_loop();
-            } else {
-                std::thread::yield_now();
-            }
-        }
+        let board = self.0;
+        board.open.store(false, Ordering::SeqCst);
+        board
+            .leaving
+            .wait(|| board.active.load(Ordering::SeqCst) == 0);
     }
 }
 
@@ -195,7 +135,7 @@ impl Crew {
         board.job.store(slot.cast_mut(), Ordering::SeqCst);
         board.open.store(true, Ordering::SeqCst);
         board.generation.fetch_add(1, Ordering::SeqCst);
-        board.notify();
+        board.idle.notify();
         {
             let _close = CloseOnExit(board);
             job();
@@ -210,8 +150,7 @@ impl Crew {
 impl Drop for Crew {
     fn drop(&mut self) {
         self.board.exit.store(true, Ordering::SeqCst);
-        let _guard = self.board.lock.lock();
-        self.board.wake.notify_all();
+        self.board.idle.notify();
     }
 }
 
