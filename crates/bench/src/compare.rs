@@ -12,6 +12,44 @@ const WARMUP_STEPS: u32 = 10;
 /// Default scenes: Box2D's own benchmark scenes that tumble builds the same way.
 const DEFAULT_SCENES: &str = "large_pyramid,many_pyramids,smash";
 
+/// Most threads the peers take (Box2D's worker count is 1 to 32).
+pub(crate) const MAX_PEER_THREADS: u32 = 32;
+
+/// The engines, in the order each configuration runs them (rotated from repeat to repeat).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Engine {
+    Tumble,
+    Box2d,
+    Rapier,
+}
+
+/// Every engine, tumble first (the ratios are tumble's ms over each of the others').
+pub(crate) const ENGINES: [Engine; 3] = [Engine::Tumble, Engine::Box2d, Engine::Rapier];
+
+impl Engine {
+    /// Lower-case name, for CSV files.
+    pub(crate) fn key(self) -> &'static str {
+        match self {
+            Engine::Tumble => "tumble",
+            Engine::Box2d => "box2d",
+            Engine::Rapier => "rapier",
+        }
+    }
+    /// Name as the tables and charts write it.
+    pub(crate) fn title(self) -> &'static str {
+        match self {
+            Engine::Tumble => "tumble",
+            Engine::Box2d => "Box2D",
+            Engine::Rapier => "Rapier",
+        }
+    }
+}
+
+/// The helpers `sweep` shares: building each engine from a `SceneDef`, timing its steps, and
+/// what the build may spoil.
+#[cfg(feature = "peers")]
+pub(crate) use imp::{build, build_warnings, peer_rows, settings_of, time_steps};
+
 /// Arguments of `tumble-bench compare`.
 #[derive(Debug, Args)]
 pub struct CompareArgs {
@@ -23,7 +61,7 @@ pub struct CompareArgs {
         long,
         value_name = "T,T,..",
         value_delimiter = ',',
-        value_parser = clap::value_parser!(u32).range(1..=32)
+        value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_PEER_THREADS))
     )]
     pub threads: Option<Vec<u32>>,
     /// Runs of each engine, scene and thread count, each on a fresh world; the report gives the
@@ -73,7 +111,7 @@ mod imp {
     use indicatif::{ProgressBar, ProgressStyle};
     use tumble_physics::{SceneDef, StepSettings, World};
 
-    use super::CompareArgs;
+    use super::{CompareArgs, ENGINES, Engine};
     use crate::machine;
     use crate::peers::Peer;
     use crate::peers::box2d::{self, Box2d};
@@ -82,33 +120,6 @@ mod imp {
     use crate::scenes;
     use crate::sweep::csv_field;
     use crate::timing::{median, min};
-
-    /// The engines, in the order each configuration runs them.
-    #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-    enum Engine {
-        Tumble,
-        Box2d,
-        Rapier,
-    }
-
-    const ENGINES: [Engine; 3] = [Engine::Tumble, Engine::Box2d, Engine::Rapier];
-
-    impl Engine {
-        fn key(self) -> &'static str {
-            match self {
-                Engine::Tumble => "tumble",
-                Engine::Box2d => "box2d",
-                Engine::Rapier => "rapier",
-            }
-        }
-        fn title(self) -> &'static str {
-            match self {
-                Engine::Tumble => "tumble",
-                Engine::Box2d => "Box2D",
-                Engine::Rapier => "Rapier",
-            }
-        }
-    }
 
     /// One run's result.
     struct Measure {
@@ -124,14 +135,14 @@ mod imp {
     }
 
     /// The tumble settings of a scene (what the peers are told where they have the knob).
-    fn settings_of(scene: &SceneDef) -> Result<StepSettings> {
+    pub(crate) fn settings_of(scene: &SceneDef) -> Result<StepSettings> {
         // A world of the settings only: `from_scene` fills in gravity and keeps the defaults.
         let mut empty = scene.clone();
         empty.bodies.clear();
         Ok(*World::from_scene(&empty, &scenes::limits())?.settings())
     }
 
-    fn build(
+    pub(crate) fn build(
         engine: Engine,
         scene: &SceneDef,
         settings: &StepSettings,
@@ -192,7 +203,7 @@ mod imp {
 
     /// Mean wall ms of `peer.step()` over `steps` steps after `warmup` untimed ones (nothing
     /// else is inside the clock), and the mean of each stage the peer reports.
-    fn time_steps(
+    pub(crate) fn time_steps(
         peer: &mut dyn Peer,
         warmup: u32,
         steps: u32,
@@ -221,7 +232,7 @@ mod imp {
     }
 
     /// What the build and the machine may spoil, said before the numbers.
-    fn build_warnings() -> Result<Vec<String>> {
+    pub(crate) fn build_warnings() -> Result<Vec<String>> {
         let mut warnings = Vec::new();
         if !machine::optimised() {
             warnings.push(
@@ -265,7 +276,7 @@ mod imp {
         let threads: Vec<usize> = match &args.threads {
             Some(t) => t.iter().map(|&t| t as usize).collect(),
             None => {
-                let mut t = vec![1, machine::cores().min(32)];
+                let mut t = vec![1, machine::cores().min(super::MAX_PEER_THREADS as usize)];
                 t.dedup();
                 t
             }
@@ -714,6 +725,30 @@ mod imp {
 
     const STAGES_LEN: usize = crate::peers::STAGES.len();
 
+    /// The Box2D and Rapier rows of a report's machine table (markdown, one line each);
+    /// `settings` names where the engines' settings are written out.
+    pub(crate) fn peer_rows(settings: &str) -> String {
+        let mut md = String::new();
+        let _ = writeln!(
+            md,
+            "| Box2D | {} via boxdd {}; CFLAGS `{}`; AVX2 path {} |",
+            box2d::version(),
+            env!("TUMBLE_BENCH_BOXDD_VERSION"),
+            machine::build_cflags(),
+            if cfg!(feature = "simd-avx2") {
+                "on (`simd-avx2`)"
+            } else {
+                "off"
+            }
+        );
+        let _ = writeln!(
+            md,
+            "| Rapier | rapier2d {} (feature `parallel`; its 4-lane SIMD solver is always on, see {settings}) |",
+            rapier::version()
+        );
+        md
+    }
+
     fn markdown(
         measures: &[Measure],
         lines: &[Line],
@@ -764,23 +799,7 @@ mod imp {
             "| tumble's 8-lane solver | {} |",
             machine::tumble_kernel()
         );
-        let _ = writeln!(
-            md,
-            "| Box2D | {} via boxdd {}; CFLAGS `{}`; AVX2 path {} |",
-            box2d::version(),
-            env!("TUMBLE_BENCH_BOXDD_VERSION"),
-            machine::build_cflags(),
-            if cfg!(feature = "simd-avx2") {
-                "on (`simd-avx2`)"
-            } else {
-                "off"
-            }
-        );
-        let _ = writeln!(
-            md,
-            "| Rapier | rapier2d {} (feature `parallel`; its 4-lane SIMD solver is always on, see Settings) |",
-            rapier::version()
-        );
+        md.push_str(&peer_rows("Settings"));
         let _ = writeln!(
             md,
             "| build | {} |",

@@ -150,16 +150,39 @@ fn a_tiny_sweep_writes_a_csv_and_charts() {
     ] {
         column(&header, name);
     }
-    assert_eq!(rows.len(), 2, "one pyramid run and one pile run: {rows:?}");
+    // The pile runs in every engine built in (tumble first in the first repeat).
+    let engines: &[&str] = if cfg!(feature = "peers") {
+        &["tumble", "box2d", "rapier"]
+    } else {
+        &["tumble"]
+    };
+    assert_eq!(
+        rows.len(),
+        1 + engines.len(),
+        "one pyramid run and one pile run per engine: {rows:?}"
+    );
     let (scene, family) = (column(&header, "scene"), column(&header, "family"));
+    let engine = column(&header, "engine");
     assert_eq!(rows[0][scene], "pyramid");
     assert_eq!(rows[0][family], "threads");
-    assert_eq!(rows[1][scene], "pile_100");
-    assert_eq!(rows[1][family], "bodies");
-    assert_eq!(number(&rows[1][column(&header, "bodies")]), 103.0);
+    assert_eq!(rows[0][engine], "tumble");
+    for (row, name) in rows[1..].iter().zip(engines) {
+        assert_eq!(row[scene], "pile_100");
+        assert_eq!(row[family], "bodies");
+        assert_eq!(row[engine], *name);
+        assert_eq!(number(&row[column(&header, "bodies")]), 103.0);
+    }
     for row in &rows {
         number(&row[column(&header, "step_ms")]);
-        number(&row[column(&header, "solve_ms")]);
+        if row[engine] == "tumble" {
+            number(&row[column(&header, "solve_ms")]);
+        }
+    }
+    if !cfg!(feature = "peers") {
+        assert!(
+            stdout.contains("tumble only"),
+            "a sweep without peers says so:\n{stdout}"
+        );
     }
 
     check_svg(&dir.0.join("sweep_threads_pyramid.svg"));
