@@ -123,7 +123,9 @@ impl Crew {
     /// Runs `job` on this thread and on every follower that joins before this thread's run
     /// of it returns; returns once every run of it has. `job` must hand out its work so that
     /// any number of runs, from one up, together do all of it (a shared counter of parts).
-    /// Panics if a follower's run panicked. Must not be called from inside a job.
+    /// Panics if a follower's run panicked. Must not be called from inside a job. A follower
+    /// that reads the job just as the next one is published may run that next one instead:
+    /// harmless, since it is counted and waited for like any other run of it.
     pub fn run(&self, job: &(dyn Fn() + Sync)) {
         let board = &*self.board;
         // SAFETY (lifetime erasure): followers dereference this only while counted in
@@ -132,6 +134,8 @@ impl Crew {
         let erased: &'static JobFn =
             unsafe { std::mem::transmute::<&(dyn Fn() + Sync + '_), &'static JobFn>(job) };
         let slot: *const &'static JobFn = &erased;
+        // A job the leader's own part unwound from may have left the flag set.
+        board.poisoned.store(false, Ordering::SeqCst);
         board.job.store(slot.cast_mut(), Ordering::SeqCst);
         board.open.store(true, Ordering::SeqCst);
         board.generation.fetch_add(1, Ordering::SeqCst);

@@ -271,14 +271,15 @@ impl WideThresholds {
 
 impl Default for WideThresholds {
     fn default() -> Self {
-        // docs/bench/thresholds.md: half of each measured crossover on 2 cores, rounded.
+        // docs/bench/thresholds.md: about half of each crossover measured on 2 cores (the
+        // lower of two runs where one size's outlier moved a crossover, rounded).
         WideThresholds {
-            step: 1000,
-            broad_phase: 170,
-            narrow_phase: 320,
-            prepare: 800,
-            solve: 800,
-            finalize: 150,
+            step: 750,
+            broad_phase: 120,
+            narrow_phase: 630,
+            prepare: 1200,
+            solve: 950,
+            finalize: 1000,
         }
     }
 }
