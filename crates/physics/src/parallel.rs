@@ -155,17 +155,6 @@ pub struct Spread<'a> {
     workers: usize,
 }
 
-impl PartialEq for Spread<'_> {
-    fn eq(&self, other: &Self) -> bool {
-        self.workers == other.workers
-            && match (self.crew, other.crew) {
-                (Some(a), Some(b)) => std::ptr::eq(a, b),
-                (None, None) => true,
-                _ => false,
-            }
-    }
-}
-
 impl std::fmt::Debug for Spread<'_> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "Spread({} workers)", self.workers)
