@@ -68,22 +68,24 @@ async function main() {
   waitForFrame();
 }
 
-/// `?bench=SCENE&threads=T&steps=N`: times the step alone (no frames drawn), as
-/// `tumble-bench run` does natively, and publishes the result on `window.tumble_bench`.
+/// `?bench=SCENE&threads=T&steps=N[&warmup=K]`: times the step alone (no frames drawn), as
+/// `tumble-bench run` does natively, and publishes the result on `window.tumble_bench`;
+/// `warmup` untimed steps of a throwaway world first let the browser compile the hot code.
 async function bench(params) {
   const scene = params.get('bench') || 'large_pyramid';
   const threads = Number(params.get('threads') || 1);
   const steps = Number(params.get('steps') || 300);
+  const warmup = Number(params.get('warmup') || 0);
   text.textContent = `Benchmark: ${scene}, ${threads} thread(s), ${steps} steps…`;
   // Let the page paint the message before the step takes the thread.
   await new Promise((resolve) => setTimeout(resolve, 50));
-  benchStart(scene, threads, steps);
+  benchStart(scene, threads, steps, warmup);
   let result;
   while ((result = benchResult()) === undefined) {
     await new Promise((resolve) => setTimeout(resolve, 100));
   }
   const profile = JSON.parse(result);
-  window.tumble_bench = { scene, threads, steps, ...profile, cross_origin_isolated: self.crossOriginIsolated };
+  window.tumble_bench = { scene, threads, steps, warmup, ...profile, cross_origin_isolated: self.crossOriginIsolated };
   bar.classList.remove('busy');
   text.textContent = `${scene}: ${profile.step_ms_mean.toFixed(3)} ms per step on ${threads} thread(s), mean of ${steps} steps`;
 }

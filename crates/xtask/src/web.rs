@@ -24,7 +24,7 @@ pub const DEFAULT_PORT: u16 = 8080;
 /// The compiler flags of the threaded build: atomics and a shared, imported memory, plus the
 /// thread-local-storage symbols each worker's instance needs (../shared/RECIPES.md), and
 /// 128-bit SIMD (`simd128`), which the solver's 8-wide lanes use: without it they fall back
-/// to scalar code and a step takes about 2.5 times as long (docs/bench/web.md). Every browser
+/// to scalar code and a step takes about 3.5 times as long (docs/bench/web.md). Every browser
 /// with WebAssembly threads has SIMD. They apply to the wasm target only, so host tools and
 /// build scripts build as usual.
 const WASM_RUSTFLAGS: &str = "-C target-feature=+atomics,+bulk-memory,+mutable-globals,+simd128 \

@@ -120,15 +120,32 @@ pub fn start() -> Result<(), JsValue> {
 /// `World::profile().step_ms` over the steps (ms). It runs on a worker, as the app's steps
 /// do, so the page's thread sleeps meanwhile; [`bench_result`] has the answer once it is
 /// done. No frames are drawn. The page runs it for `?bench=SCENE&threads=T&steps=N`
-/// (`web/main.js`).
+/// (`web/main.js`). With `warmup > 0` a throwaway world of the same scene takes that many
+/// steps first, untimed: the browser compiles and re-optimises the module's hot code during
+/// its first steps (measured: a second run in the same page took 0.5 to 0.8 times the first's
+/// ms), which a native build paid for when it was compiled. The timed world is the same
+/// either way, so its state hash is too.
 #[wasm_bindgen(js_name = benchStart)]
-pub fn bench_start(scene: &str, threads: usize, steps: u32) -> Result<(), JsValue> {
+pub fn bench_start(scene: &str, threads: usize, steps: u32, warmup: u32) -> Result<(), JsValue> {
     let error = |e: anyhow::Error| JsValue::from_str(&format!("{e:#}"));
     let limits = tumble_scene::LoadLimits::default();
     let scene = tumble_scene::load(scene, &limits).map_err(|e| error(e.into()))?;
     let mut world = crate::sim::build_world(&scene).map_err(error)?;
     world.set_thread_count(threads.max(1));
+    let mut throwaway = if warmup > 0 {
+        let mut w = crate::sim::build_world(&scene).map_err(error)?;
+        w.set_thread_count(threads.max(1));
+        Some(w)
+    } else {
+        None
+    };
     let run = move || {
+        if let Some(w) = throwaway.as_mut() {
+            for _ in 0..warmup {
+                w.step(scene.dt, scene.substeps);
+            }
+        }
+        drop(throwaway);
         let mut total = 0.0;
         let mut stages: Vec<(&'static str, f64)> = Vec::new();
         for _ in 0..steps {
