@@ -800,15 +800,7 @@ mod imp {
             machine::tumble_kernel()
         );
         md.push_str(&peer_rows("Settings"));
-        let _ = writeln!(
-            md,
-            "| build | {} |",
-            if machine::optimised() {
-                "release"
-            } else {
-                "debug (timings meaningless)"
-            }
-        );
+        machine::write_build_row(&mut md);
         let command: Vec<String> = std::env::args().skip(1).collect();
         let _ = writeln!(md, "| command | `tumble-bench {}` |\n", command.join(" "));
         for w in warnings {

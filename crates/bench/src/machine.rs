@@ -70,3 +70,27 @@ pub fn tumble_kernel() -> String {
         other => format!("{other} (no AVX2 on this CPU)"),
     }
 }
+
+/// Starts a report's machine table: its header, then the CPU, the cores and the revision.
+pub fn write_host_rows(md: &mut String) {
+    use std::fmt::Write as _;
+    let _ = writeln!(md, "| | |\n|---|---|");
+    let _ = writeln!(md, "| CPU | {} |", cpu_model());
+    let _ = writeln!(md, "| cores | {} |", cores());
+    let _ = writeln!(
+        md,
+        "| tumble revision (built from) | `{}` |",
+        git_revision()
+    );
+}
+
+/// The machine table's build row: release, or a debug build whose timings mean nothing.
+pub fn write_build_row(md: &mut String) {
+    use std::fmt::Write as _;
+    let build = if optimised() {
+        "release"
+    } else {
+        "debug (timings meaningless)"
+    };
+    let _ = writeln!(md, "| build | {build} |");
+}

@@ -488,14 +488,7 @@ fn markdown(
     for w in warnings {
         let _ = writeln!(md, "> **Warning:** {w}\n");
     }
-    let _ = writeln!(md, "| | |\n|---|---|");
-    let _ = writeln!(md, "| CPU | {} |", machine::cpu_model());
-    let _ = writeln!(md, "| cores | {} |", machine::cores());
-    let _ = writeln!(
-        md,
-        "| tumble revision (built from) | `{}` |",
-        machine::git_revision()
-    );
+    machine::write_host_rows(&mut md);
     let _ = writeln!(md, "| rustc | `{}` |", machine::rustc_version());
     let _ = writeln!(
         md,
@@ -503,15 +496,7 @@ fn markdown(
         machine::tumble_kernel()
     );
     peer_rows(&mut md);
-    let _ = writeln!(
-        md,
-        "| build | {} |",
-        if machine::optimised() {
-            "release"
-        } else {
-            "debug (ms/step meaningless)"
-        }
-    );
+    machine::write_build_row(&mut md);
     let _ = writeln!(md, "| threads per engine | {} |", args.threads);
     let _ = writeln!(md, "| load average (1, 5, 15 min) | {load} |");
     let _ = writeln!(

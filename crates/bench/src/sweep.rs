@@ -844,14 +844,7 @@ fn markdown(report: &Report<'_>, args: &SweepArgs) -> String {
          least and the most in brackets); below 1, tumble is faster.\n",
         args.warmup, args.steps, args.repeats
     );
-    let _ = writeln!(md, "| | |\n|---|---|");
-    let _ = writeln!(md, "| CPU | {} |", machine::cpu_model());
-    let _ = writeln!(md, "| cores | {} |", machine::cores());
-    let _ = writeln!(
-        md,
-        "| tumble revision (built from) | `{}` |",
-        machine::git_revision()
-    );
+    machine::write_host_rows(&mut md);
     let _ = writeln!(md, "| load average (1, 5, 15 min) | {} |", report.load);
     let _ = writeln!(md, "| rustc | `{}` |", machine::rustc_version());
     let _ = writeln!(
@@ -861,15 +854,7 @@ fn markdown(report: &Report<'_>, args: &SweepArgs) -> String {
     );
     #[cfg(feature = "peers")]
     md.push_str(&crate::compare::peer_rows("compare.md, Settings"));
-    let _ = writeln!(
-        md,
-        "| build | {} |",
-        if machine::optimised() {
-            "release"
-        } else {
-            "debug (timings meaningless)"
-        }
-    );
+    machine::write_build_row(&mut md);
     let command: Vec<String> = std::env::args().skip(1).collect();
     let _ = writeln!(md, "| command | `tumble-bench {}` |\n", command.join(" "));
     for w in report.warnings {

@@ -228,29 +228,14 @@ fn report(args: &ThresholdsArgs, threads: usize, sizes: &[Size], load_before: &s
         "Written by `tumble-bench thresholds`. Each size of the pile family (`pile_N`: N seeded boxes and circles dropped into a static box) is stepped {} times {} untimed steps, then {} timed, on {threads} threads twice, interleaved: every stage inline on the caller's thread (`WideThresholds::NEVER`), and every stage split over the threads (`WideThresholds::ALWAYS`). Figures are medians over the runs of per-step means from `World::profile()`; a gain is the median of the paired runs' differences (each pair run back to back). *outside* is the step's wall time outside its stages: in the split runs it holds waking the pool and handing the step back. A stage's split **pays** at a size when it gains (the stage is faster split); the step **pays** when the whole step is faster on the pool, wake included.\n",
         args.repeats, args.warmup, args.steps
     );
-    let _ = writeln!(md, "| | |\n|---|---|");
-    let _ = writeln!(md, "| CPU | {} |", machine::cpu_model());
-    let _ = writeln!(md, "| cores | {} |", machine::cores());
-    let _ = writeln!(
-        md,
-        "| tumble revision (built from) | `{}` |",
-        machine::git_revision()
-    );
+    machine::write_host_rows(&mut md);
     let _ = writeln!(
         md,
         "| load average (1, 5, 15 min) | {load_before} before, {} after |",
         machine::load_average()
     );
     let _ = writeln!(md, "| rustc | `{}` |", machine::rustc_version());
-    let _ = writeln!(
-        md,
-        "| build | {} |",
-        if machine::optimised() {
-            "release"
-        } else {
-            "debug (figures are not meaningful)"
-        }
-    );
+    machine::write_build_row(&mut md);
     let _ = writeln!(
         md,
         "| command | `tumble-bench thresholds --bodies {} --repeats {} --steps {}` |\n",
