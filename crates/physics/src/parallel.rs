@@ -191,6 +191,16 @@ impl<'a> Spread<'a> {
     pub fn goes_wide(self, items: usize, min_per_worker: usize) -> bool {
         self.workers > 1 && items >= 2 * min_per_worker.max(1)
     }
+
+    /// This spread for a stage of `items` items that [`goes wide`](Self::goes_wide) at
+    /// `min_per_worker`, else inline: for a stage whose own loops split by other counts.
+    pub fn for_stage(self, items: usize, min_per_worker: usize) -> Spread<'a> {
+        if self.goes_wide(items, min_per_worker) {
+            self
+        } else {
+            Spread::INLINE
+        }
+    }
 }
 
 /// Data a stage can cut into parts that workers process independently: slices, shared or

@@ -1114,11 +1114,7 @@ impl World {
                 };
                 Some((u64::from(rank[finder as usize]) << 32) | u64::from(other))
             };
-            let walk = if spread.goes_wide(self.moved.len(), self.wide.broad_phase) {
-                spread
-            } else {
-                Spread::INLINE
-            };
+            let walk = spread.for_stage(self.moved.len(), self.wide.broad_phase);
             let mut found = bp.overlapping_pairs_parallel(aabbs, walk, &keep);
             // Each task's pairs come sorted: a merge sort joins the runs in O(n log tasks).
             found.sort();
@@ -1327,11 +1323,7 @@ impl World {
         };
         // Below its threshold the solver runs on one worker: waking the others for every
         // stage (a hundred a step) costs more than their share of a small colour.
-        let solve_spread = if spread.goes_wide(self.touching.len(), self.wide.solve) {
-            spread
-        } else {
-            Spread::INLINE
-        };
+        let solve_spread = spread.for_stage(self.touching.len(), self.wide.solve);
         let (caps, workers) =
             self.solver
                 .run_substeps(&mut self.states, &self.motion, &step, solve_spread);
@@ -1413,27 +1405,18 @@ impl World {
             &'a mut [bool],
             &'a mut [bool],
         );
-        for_each_part(spread, bodies, self.wide.finalize, &|offset,
-                                                            (
-            sims,
-            states,
-            fats,
-            moved,
-            guarded,
-        ): Bodies<
-            '_,
-        >| {
-            for (k, sim) in sims.iter_mut().enumerate() {
-                finalize_one(
-                    offset + k,
-                    sim,
-                    &mut states[k],
-                    &mut fats[k],
-                    &mut moved[k],
-                    &mut guarded[k],
-                );
+        let finalize_part = |offset: usize, (sims, states, fats, moved, guarded): Bodies<'_>| {
+            let each = sims
+                .iter_mut()
+                .zip(states)
+                .zip(fats)
+                .zip(moved)
+                .zip(guarded);
+            for (k, ((((sim, st), fat), moved), guarded)) in each.enumerate() {
+                finalize_one(offset + k, sim, st, fat, moved, guarded);
             }
-        });
+        };
+        for_each_part(spread, bodies, self.wide.finalize, &finalize_part);
         for (i, &m) in self.moved_flags.iter().enumerate() {
             if m {
                 self.moved.push(i as u32);

@@ -175,8 +175,9 @@ impl Solver {
         spread: Spread<'_>,
         min_per_worker: usize,
     ) {
-        // Wide constraints hold eight contacts, and checking a pair is ~10x cheaper than
-        // building a constraint: the thresholds in their units.
+        // The threshold in each loop's units: a wide constraint holds eight contacts, and a
+        // loop that only compares a pair or a flag splits at eight times the count of one
+        // that builds constraints (a proportion assumed, not measured).
         let (min, min_wide, min_check) = (
             min_per_worker,
             min_per_worker.div_ceil(LANES),
