@@ -21,9 +21,12 @@
 
 #![warn(missing_docs)]
 
+mod body;
 pub mod collision;
 mod crew;
 mod error;
+mod id;
+mod island;
 mod math;
 mod parallel;
 mod profile;
@@ -32,18 +35,20 @@ mod shape;
 mod solver;
 mod world;
 
+pub use body::BodyMass;
 pub use error::{PolygonError, SceneError, SettingsError};
+pub use id::{BodyId, ShapeId};
 pub use glam::Vec2;
 pub use math::{Rot, Transform};
 pub use profile::StepProfile;
 pub use scene::{
-    BodyDef, BodyKind, Limits, MAX_POLYGON_VERTICES, MAX_SOLVER_PASSES, SceneDef, ShapeDef,
-    SolverDef,
+    BodyDef, BodyKind, Filter, Limits, MAX_POLYGON_VERTICES, MAX_SOLVER_PASSES, PartDef,
+    ResolvedPart, SceneDef, ShapeDef, SolverDef,
 };
 pub use shape::{Aabb, Circle, MassData, Polygon, Shape};
 pub use world::{
-    BodyView, ContactView, SpawnWorker, StepSettings, WideThresholds, World, WorldSnapshot,
-    default_thread_count, set_thread_source,
+    BodyView, ContactView, ShapeView, SpawnWorker, StepSettings, WideThresholds, World,
+    WorldError, WorldSnapshot, default_thread_count, set_thread_source,
 };
 
 /// Length tolerance used by collision (Box2D's `B2_LINEAR_SLOP`, 5 mm).

@@ -100,6 +100,21 @@ pub struct Transform {
 }
 
 impl Transform {
+    /// No rotation, no translation.
+    pub const IDENTITY: Transform = Transform {
+        p: Vec2::ZERO,
+        q: Rot::IDENTITY,
+    };
+
+    /// `self * local`: a frame given in `self`'s frame, expressed in the world.
+    #[inline]
+    pub fn mul(self, local: Transform) -> Transform {
+        Transform {
+            p: self.apply(local.p),
+            q: local.q.then_from(self.q),
+        }
+    }
+
     /// Maps a point from the local frame to the world.
     #[inline]
     pub fn apply(self, v: Vec2) -> Vec2 {

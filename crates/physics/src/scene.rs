@@ -52,15 +52,170 @@ fn default_density() -> f32 {
 fn default_friction() -> f32 {
     0.6
 }
+fn yes() -> bool {
+    true
+}
+fn is_true(b: &bool) -> bool {
+    *b
+}
+fn is_false(b: &bool) -> bool {
+    !*b
+}
+fn one() -> f32 {
+    1.0
+}
+fn is_one(x: &f32) -> bool {
+    *x == 1.0
+}
 
-/// One body of a scene. Every field but `shape` has a default (see CONTRACT.md).
+/// Which shapes may touch (CONTRACT.md section 5, Box2D's rule): two shapes touch when each
+/// one's `category` meets the other's `mask`, except that two shapes of the same non-zero
+/// `group` always touch when it is positive and never when it is negative.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Filter {
+    /// The categories this shape belongs to (bits).
+    #[serde(default = "Filter::default_category")]
+    pub category: u64,
+    /// The categories this shape touches (bits).
+    #[serde(default = "Filter::default_mask")]
+    pub mask: u64,
+    /// Shapes of one non-zero group always touch (positive) or never do (negative).
+    #[serde(default)]
+    pub group: i64,
+}
+
+impl Filter {
+    fn default_category() -> u64 {
+        1
+    }
+    fn default_mask() -> u64 {
+        u64::MAX
+    }
+
+    /// Whether shapes with these filters may touch (Box2D's `b2ShouldShapesCollide`).
+    #[inline]
+    pub fn should_collide(&self, other: &Filter) -> bool {
+        if self.group == other.group && self.group != 0 {
+            return self.group > 0;
+        }
+        (self.category & other.mask) != 0 && (other.category & self.mask) != 0
+    }
+
+    /// Whether this is the default filter (category 1, mask all, group 0).
+    pub fn is_default(&self) -> bool {
+        *self == Filter::default()
+    }
+}
+
+impl Default for Filter {
+    fn default() -> Self {
+        Filter {
+            category: 1,
+            mask: u64::MAX,
+            group: 0,
+        }
+    }
+}
+
+/// One shape of a body of several (`shapes`), placed in the body's frame. Only `shape` is
+/// required; the material and filter fields default to the body's.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PartDef {
+    /// The shape, in the part's frame (a polygon is not recentred: its vertices are where
+    /// they are in that frame).
+    pub shape: ShapeDef,
+    /// Where the part's frame sits in the body's frame (m).
+    #[serde(default, deserialize_with = "pair::one")]
+    pub offset: [f32; 2],
+    /// The part frame's angle in the body's frame (rad).
+    #[serde(default)]
+    pub angle: f32,
+    /// Area density (kg/m²); the body's when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub density: Option<f32>,
+    /// Friction; the body's when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<f32>,
+    /// Restitution; the body's when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub restitution: Option<f32>,
+    /// Filter; the body's when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub filter: Option<Filter>,
+    /// A sensor detects overlaps and never pushes anything. Sensor events are not built
+    /// yet (issue 18): a sensor part today is a part that touches nothing.
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub sensor: bool,
+}
+
+impl PartDef {
+    /// A part of this shape at the body's origin, with the body's material.
+    pub fn new(shape: ShapeDef) -> PartDef {
+        PartDef {
+            shape,
+            offset: [0.0, 0.0],
+            angle: 0.0,
+            density: None,
+            friction: None,
+            restitution: None,
+            filter: None,
+            sensor: false,
+        }
+    }
+    /// Builder: offset and angle in the body's frame.
+    pub fn at(mut self, x: f32, y: f32, angle: f32) -> PartDef {
+        self.offset = [x, y];
+        self.angle = angle;
+        self
+    }
+    /// Builder: density.
+    pub fn density(mut self, density: f32) -> PartDef {
+        self.density = Some(density);
+        self
+    }
+    /// Builder: filter.
+    pub fn filter(mut self, filter: Filter) -> PartDef {
+        self.filter = Some(filter);
+        self
+    }
+}
+
+/// A part with every default resolved: what the world builds a shape from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ResolvedPart<'a> {
+    /// The shape in the part's frame.
+    pub shape: &'a ShapeDef,
+    /// Offset in the body's frame.
+    pub offset: [f32; 2],
+    /// Angle in the body's frame.
+    pub angle: f32,
+    /// Density.
+    pub density: f32,
+    /// Friction.
+    pub friction: f32,
+    /// Restitution.
+    pub restitution: f32,
+    /// Filter.
+    pub filter: Filter,
+    /// Sensor.
+    pub sensor: bool,
+    /// Whether the part comes from `shape` (a body of one shape: a polygon is recentred and
+    /// the body's position is its centre of mass) rather than from `shapes`.
+    pub single: bool,
+}
+
+/// One body of a scene. Every field but the shape has a default (see CONTRACT.md); a body
+/// has exactly one of `shape` and `shapes`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BodyDef {
     /// Static, dynamic or kinematic.
     #[serde(default)]
     pub kind: BodyKind,
-    /// Centre of mass in the world (m).
+    /// With `shape`: the centre of mass in the world. With `shapes`: the body frame's origin
+    /// (m).
     #[serde(default, deserialize_with = "pair::one")]
     pub position: [f32; 2],
     /// Orientation (rad, counter-clockwise).
@@ -72,8 +227,12 @@ pub struct BodyDef {
     /// Initial angular velocity (rad/s).
     #[serde(default)]
     pub angular_velocity: f32,
-    /// Collision shape.
-    pub shape: ShapeDef,
+    /// Collision shape (a body of one shape).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shape: Option<ShapeDef>,
+    /// Several shapes fixed to the body, instead of `shape`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub shapes: Vec<PartDef>,
     /// Area density (kg/m²), > 0 for a dynamic body.
     #[serde(default = "default_density")]
     pub density: f32,
@@ -92,25 +251,94 @@ pub struct BodyDef {
     /// Whether the body may not rotate.
     #[serde(default)]
     pub fixed_rotation: bool,
+    /// `false`: the body starts asleep (when the scene's `sleep` is on).
+    #[serde(default = "yes", skip_serializing_if = "is_true")]
+    pub awake: bool,
+    /// `false`: this body never sleeps, nor does its island.
+    #[serde(default = "yes", skip_serializing_if = "is_true")]
+    pub enable_sleep: bool,
+    /// A dynamic body that never passes through other dynamic bodies either. Continuous
+    /// collision is not built yet (issue 18): accepted and kept.
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub bullet: bool,
+    /// Multiplies gravity for this body.
+    #[serde(default = "one", skip_serializing_if = "is_one")]
+    pub gravity_scale: f32,
+    /// Which shapes this body's shapes touch (each part may override it).
+    #[serde(default, skip_serializing_if = "Filter::is_default")]
+    pub filter: Filter,
 }
 
 impl BodyDef {
     /// A dynamic body of the given shape at the origin with every other field at its default.
     pub fn new(shape: ShapeDef) -> Self {
         Self {
+            shape: Some(shape),
+            ..Self::compound(Vec::new())
+        }
+    }
+
+    /// A dynamic body of several parts at the origin with every other field at its default.
+    pub fn compound(parts: Vec<PartDef>) -> Self {
+        Self {
             kind: BodyKind::Dynamic,
             position: [0.0, 0.0],
             angle: 0.0,
             linear_velocity: [0.0, 0.0],
             angular_velocity: 0.0,
-            shape,
+            shape: None,
+            shapes: parts,
             density: default_density(),
             friction: default_friction(),
             restitution: 0.0,
             linear_damping: 0.0,
             angular_damping: 0.0,
             fixed_rotation: false,
+            awake: true,
+            enable_sleep: true,
+            bullet: false,
+            gravity_scale: 1.0,
+            filter: Filter::default(),
         }
+    }
+
+    /// The body's parts with the body's defaults filled in: its `shape` as one part at its
+    /// origin, or each of `shapes`.
+    pub fn parts(&self) -> Vec<ResolvedPart<'_>> {
+        if let Some(shape) = &self.shape {
+            return vec![ResolvedPart {
+                shape,
+                offset: [0.0, 0.0],
+                angle: 0.0,
+                density: self.density,
+                friction: self.friction,
+                restitution: self.restitution,
+                filter: self.filter,
+                sensor: false,
+                single: true,
+            }];
+        }
+        self.shapes
+            .iter()
+            .map(|p| ResolvedPart {
+                shape: &p.shape,
+                offset: p.offset,
+                angle: p.angle,
+                density: p.density.unwrap_or(self.density),
+                friction: p.friction.unwrap_or(self.friction),
+                restitution: p.restitution.unwrap_or(self.restitution),
+                filter: p.filter.unwrap_or(self.filter),
+                sensor: p.sensor,
+                single: false,
+            })
+            .collect()
+    }
+
+    /// The shape of a body of one shape, or the first part's.
+    pub fn first_shape(&self) -> Option<&ShapeDef> {
+        self.shape
+            .as_ref()
+            .or_else(|| self.shapes.first().map(|p| &p.shape))
     }
 
     /// Builder: body kind.
@@ -164,6 +392,21 @@ impl BodyDef {
         self.fixed_rotation = fixed;
         self
     }
+    /// Builder: starts awake or asleep.
+    pub fn awake(mut self, awake: bool) -> Self {
+        self.awake = awake;
+        self
+    }
+    /// Builder: filter of every part.
+    pub fn filter(mut self, filter: Filter) -> Self {
+        self.filter = filter;
+        self
+    }
+    /// Builder: gravity scale.
+    pub fn gravity_scale(mut self, scale: f32) -> Self {
+        self.gravity_scale = scale;
+        self
+    }
 }
 
 fn default_gravity() -> [f32; 2] {
@@ -204,11 +447,20 @@ pub struct SceneDef {
     /// (CONTRACT.md section 5, `solver`).
     #[serde(default, skip_serializing_if = "SolverDef::is_empty")]
     pub solver: SolverDef,
+    /// Bodies that rest fall asleep with their island and cost nothing until woken.
+    #[serde(default = "yes")]
+    pub sleep: bool,
+    /// Continuous collision (not built yet, issue 18): accepted and kept.
+    #[serde(default = "yes", skip_serializing_if = "is_true")]
+    pub continuous: bool,
+    /// Approach speed of a `hit` event (m/s; events are issue 18): accepted and kept.
+    #[serde(default = "one", skip_serializing_if = "is_one")]
+    pub hit_speed: f32,
 }
 
 /// A scene's `solver` block: every field optional, an absent one keeps the engine's default
-/// (Box2D v3's). The joint and sleep fields are accepted, validated and kept for the joints
-/// and sleeping that will read them; today's step has neither.
+/// (Box2D v3's). The joint fields are accepted, validated and kept for the joints that will
+/// read them.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SolverDef {
@@ -236,11 +488,10 @@ pub struct SolverDef {
     /// Joint damping ratio (>= 0; default 2). Kept for joints.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub joint_damping_ratio: Option<f32>,
-    /// Speed below which a body counts as resting (m/s, >= 0; default 0.05). Kept for
-    /// sleeping.
+    /// Speed below which a body counts as resting (m/s, >= 0; default 0.05).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sleep_threshold: Option<f32>,
-    /// How long an island rests before it sleeps (s, >= 0; default 0.5). Kept for sleeping.
+    /// How long an island rests before it sleeps (s, >= 0; default 0.5).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub time_to_sleep: Option<f32>,
 }
@@ -277,6 +528,8 @@ impl SolverDef {
             &mut settings.restitution_iterations,
             self.restitution_iterations,
         );
+        set(&mut settings.sleep_threshold, self.sleep_threshold);
+        set(&mut settings.time_to_sleep, self.time_to_sleep);
     }
 
     /// Checks each given field; the error names it as `solver.<field>`.
@@ -358,6 +611,9 @@ impl SceneDef {
             steps: default_steps(),
             bodies: Vec::new(),
             solver: SolverDef::default(),
+            sleep: true,
+            continuous: true,
+            hit_speed: 1.0,
         }
     }
 
@@ -577,72 +833,105 @@ fn validate_body(index: usize, body: &BodyDef) -> Result<(), SceneError> {
             "a finite number >= 0 (and > 0 for a dynamic body)",
         ));
     }
-    if body.kind == BodyKind::Dynamic && body.density <= 0.0 {
+    if body.kind == BodyKind::Dynamic && body.shape.is_some() && body.density <= 0.0 {
         return Err(err(
             "density",
             body.density.to_string(),
             "a finite number > 0 for a dynamic body (only static and kinematic bodies may have zero density)",
         ));
     }
-    match &body.shape {
-        ShapeDef::Circle { radius } => {
-            if !(radius.is_finite() && *radius > 0.0) {
-                return Err(err(
-                    "shape.Circle.radius",
-                    radius.to_string(),
-                    "a finite number > 0 (metres)",
-                ));
-            }
-        }
-        ShapeDef::Box { half_extents } => {
-            if !(finite2(*half_extents) && half_extents[0] > 0.0 && half_extents[1] > 0.0) {
-                return Err(err(
-                    "shape.Box.half_extents",
-                    format!("{half_extents:?}"),
-                    "two finite numbers > 0 (half width, half height in metres)",
-                ));
-            }
-        }
-        ShapeDef::Polygon { vertices } => {
-            crate::shape::Polygon::from_vertices(vertices).map_err(|problem| {
-                err(
-                    "shape.Polygon.vertices",
-                    format!("{vertices:?}"),
-                    &format!(
-                        "a convex, counter-clockwise polygon of 3 to {MAX_POLYGON_VERTICES} finite vertices with non-zero area ({problem})"
-                    ),
-                )
-            })?;
-        }
-    }
-    // Validation above has checked the polygon, so this cannot fail.
-    let Ok(shape) = crate::shape::Shape::from_def(&body.shape) else {
-        return Ok(());
-    };
-    // The world's step works in f32; shapes beyond this scale lose all precision.
-    let extent = shape.extent();
-    if extent > 1.0e5 {
+    if !body.gravity_scale.is_finite() {
         return Err(err(
-            "shape",
-            format!("extent {extent} m"),
-            "shapes up to 100 km across",
+            "gravity_scale",
+            body.gravity_scale.to_string(),
+            "a finite number (1 is ordinary gravity)",
         ));
     }
-    if body.kind == BodyKind::Dynamic {
-        // The step divides by the mass and the rotational inertia: each must be a normal f32
-        // (not zero, not subnormal, not infinite), or its inverse is infinite or zero and the
-        // body's state turns non-finite in its first contact.
-        let md = shape.mass(body.density);
-        let invertible = |x: f32| x.is_normal() && (1.0 / x).is_normal();
+    match (&body.shape, body.shapes.is_empty()) {
+        (Some(_), false) => {
+            return Err(err(
+                "shapes",
+                format!("{} parts beside `shape`", body.shapes.len()),
+                "exactly one of `shape` (one shape) and `shapes` (a list of parts): remove one",
+            ));
+        }
+        (None, true) => {
+            return Err(err(
+                "shape",
+                "missing".into(),
+                "exactly one of `shape` (one shape) and `shapes` (a non-empty list of parts)",
+            ));
+        }
+        _ => {}
+    }
+    let parts = body.parts();
+    for (k, part) in parts.iter().enumerate() {
+        let prefix = if part.single {
+            String::new()
+        } else {
+            format!("shapes[{k}].")
+        };
+        let field = |name: &str| format!("{prefix}{name}");
+        validate_shape(part.shape, &field("shape"), &err)?;
+        if !part.single {
+            if !finite2(part.offset) {
+                return Err(err(
+                    &field("offset"),
+                    format!("{:?}", part.offset),
+                    "two finite numbers (m, in the body's frame)",
+                ));
+            }
+            if !part.angle.is_finite() {
+                return Err(err(&field("angle"), part.angle.to_string(), "a finite number"));
+            }
+            for (name, v) in [
+                ("density", part.density),
+                ("friction", part.friction),
+                ("restitution", part.restitution),
+            ] {
+                if !(v.is_finite() && v >= 0.0) {
+                    return Err(err(&field(name), v.to_string(), "a finite number >= 0"));
+                }
+            }
+        }
+        // Validation above has checked the polygon, so this cannot fail.
+        let Ok(shape) = crate::shape::Shape::from_def(part.shape) else {
+            return Ok(());
+        };
+        // The world's step works in f32; shapes beyond this scale lose all precision.
+        let extent = shape.extent() + part.offset[0].abs().max(part.offset[1].abs());
+        if extent > 1.0e5 {
+            return Err(err(
+                &field("shape"),
+                format!("extent {extent} m"),
+                "shapes up to 100 km across",
+            ));
+        }
+    }
+    if body.kind != BodyKind::Dynamic {
+        return Ok(());
+    }
+    let md = crate::body::BodyMass::of_def(body);
+    let extent = md.extent;
+    if parts.iter().all(|p| p.density == 0.0) {
+        return Err(err(
+            "density",
+            "0 for every part".into(),
+            "a finite number > 0 for at least one part of a dynamic body",
+        ));
+    }
+    // The step divides by the mass and the rotational inertia: each must be a normal f32
+    // (not zero, not subnormal, not infinite), or its inverse is infinite or zero and the
+    // body's state turns non-finite in its first contact.
+    let invertible = |x: f32| x.is_normal() && (1.0 / x).is_normal();
+    {
         if !invertible(md.mass) {
             return Err(err(
                 "density",
                 format!(
                     "{}, which with this shape (area {:e} m²) gives a mass of {:e} kg, which \
                      f32 cannot invert",
-                    body.density,
-                    md.mass / body.density,
-                    md.mass
+                    body.density, md.area, md.mass
                 ),
                 &format!(
                     "a density and size whose mass (density × area) lies between {:e} and {:e} \
@@ -683,6 +972,46 @@ fn validate_body(index: usize, body: &BodyDef) -> Result<(), SceneError> {
                     },
                 ),
             ));
+        }
+    }
+    Ok(())
+}
+
+/// Checks one shape's numbers; `field` names it (`shape` or `shapes[k].shape`).
+fn validate_shape(
+    shape: &ShapeDef,
+    field: &str,
+    err: &dyn Fn(&str, String, &str) -> SceneError,
+) -> Result<(), SceneError> {
+    match shape {
+        ShapeDef::Circle { radius } => {
+            if !(radius.is_finite() && *radius > 0.0) {
+                return Err(err(
+                    &format!("{field}.Circle.radius"),
+                    radius.to_string(),
+                    "a finite number > 0 (metres)",
+                ));
+            }
+        }
+        ShapeDef::Box { half_extents } => {
+            if !(finite2(*half_extents) && half_extents[0] > 0.0 && half_extents[1] > 0.0) {
+                return Err(err(
+                    &format!("{field}.Box.half_extents"),
+                    format!("{half_extents:?}"),
+                    "two finite numbers > 0 (half width, half height in metres)",
+                ));
+            }
+        }
+        ShapeDef::Polygon { vertices } => {
+            crate::shape::Polygon::from_vertices(vertices).map_err(|problem| {
+                err(
+                    &format!("{field}.Polygon.vertices"),
+                    format!("{vertices:?}"),
+                    &format!(
+                        "a convex, counter-clockwise polygon of 3 to {MAX_POLYGON_VERTICES} finite vertices with non-zero area ({problem})"
+                    ),
+                )
+            })?;
         }
     }
     Ok(())

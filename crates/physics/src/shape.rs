@@ -1,8 +1,9 @@
 //! Shapes, their mass properties and bounding boxes.
 //!
-//! Every shape is centred on its body's centre of mass: circles by definition, boxes by
-//! symmetry, and polygons because loading recentres their vertices on the centroid. So a
-//! body's origin *is* its centre of mass and no local-centre offset is ever applied.
+//! Every shape's geometry is centred on its own centroid: circles by definition, boxes by
+//! symmetry, and polygons because loading recentres their vertices. Where a shape sits on its
+//! body is a transform kept beside it (see `crate::body`); for a body of one shape that
+//! transform is the identity and the body's origin is its centre of mass.
 
 use glam::Vec2;
 
@@ -125,6 +126,11 @@ impl Polygon {
     /// Checks a user polygon (3 to 8 finite vertices, counter-clockwise, strictly convex,
     /// edges longer than the linear slop) and recentres it on its centroid.
     pub fn from_vertices(points: &[[f32; 2]]) -> Result<Polygon, PolygonError> {
+        Polygon::centred(points).map(|(p, _)| p)
+    }
+
+    /// As [`Polygon::from_vertices`], and where the centroid was in the points' frame.
+    pub fn centred(points: &[[f32; 2]]) -> Result<(Polygon, Vec2), PolygonError> {
         let n = points.len();
         if !(3..=MAX_POLYGON_VERTICES).contains(&n) {
             return Err(PolygonError::VertexCount(n));
@@ -175,7 +181,7 @@ impl Polygon {
             let edge = p.vertices[(i + 1) % n] - p.vertices[i];
             p.normals[i] = normalize_and_length(right_perp(edge)).0;
         }
-        Ok(p)
+        Ok((p, centroid))
     }
 
     /// The used vertices.

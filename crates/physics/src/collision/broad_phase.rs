@@ -55,27 +55,32 @@ impl BroadPhase {
         &self.nodes
     }
 
-    /// Rebuilds the tree over `aabbs` (one per proxy; proxy id = index).
-    pub fn rebuild(&mut self, aabbs: &[Aabb]) {
+    /// Rebuilds the tree over the proxies of `aabbs` (proxy id = index) that `live` keeps.
+    pub fn rebuild(&mut self, aabbs: &[Aabb], live: impl Fn(u32) -> bool) {
         self.nodes.clear();
         self.items.clear();
-        self.items.extend(0..aabbs.len() as u32);
+        self.items.extend((0..aabbs.len() as u32).filter(|&i| live(i)));
         self.centers.clear();
         self.centers.extend(aabbs.iter().map(|b| {
             let c = b.center();
             [c.x, c.y]
         }));
-        if aabbs.is_empty() {
+        if self.items.is_empty() {
             return;
         }
         self.nodes.push(Node {
-            aabb: aabbs[0],
+            aabb: aabbs[self.items[0] as usize],
             child_or_first: 0,
             count: 0,
         });
-        let n = aabbs.len();
+        let n = self.items.len();
         self.build(0, 0, n, aabbs);
         self.built_cost = self.cost();
+    }
+
+    /// Rebuilds the tree over every proxy of `aabbs`.
+    pub fn rebuild_all(&mut self, aabbs: &[Aabb]) {
+        self.rebuild(aabbs, |_| true);
     }
 
     /// The summed perimeter of the inner nodes: what a query pays to descend, in the surface
@@ -358,7 +363,7 @@ mod tests {
     fn query_finds_exactly_the_brute_force_pairs() {
         let aabbs = boxes(700);
         let mut bp = BroadPhase::default();
-        bp.rebuild(&aabbs);
+        bp.rebuild_all(&aabbs);
         for (i, q) in aabbs.iter().enumerate() {
             let mut found = Vec::new();
             bp.query(q, &aabbs, |j| found.push(j as usize));
@@ -372,7 +377,7 @@ mod tests {
     fn overlapping_pairs_are_exactly_the_brute_force_pairs_each_once() {
         let aabbs = boxes(700);
         let mut bp = BroadPhase::default();
-        bp.rebuild(&aabbs);
+        bp.rebuild_all(&aabbs);
         let mut found = Vec::new();
         bp.overlapping_pairs(&aabbs, |p, q| found.push((p.min(q), p.max(q))));
         let count = found.len();
@@ -402,7 +407,7 @@ mod tests {
     fn refit_keeps_queries_exact() {
         let mut aabbs = boxes(500);
         let mut bp = BroadPhase::default();
-        bp.rebuild(&aabbs);
+        bp.rebuild_all(&aabbs);
         // Move every third box far away, then refit instead of rebuilding.
         for (i, b) in aabbs.iter_mut().enumerate().filter(|(i, _)| i % 3 == 0) {
             let d = Vec2::new((i % 7) as f32 * 3.0 - 9.0, (i % 5) as f32 * 4.0 - 8.0);
@@ -425,7 +430,7 @@ mod tests {
     fn a_refit_after_the_boxes_rearranged_is_looser_and_a_rebuild_restores_it() {
         let mut aabbs = boxes(400);
         let mut bp = BroadPhase::default();
-        bp.rebuild(&aabbs);
+        bp.rebuild_all(&aabbs);
         assert_eq!(bp.looseness(), 1.0);
         // Moving every box by the same offset keeps the tree as good as new...
         let shift = Vec2::new(3.0, -2.0);
@@ -442,7 +447,7 @@ mod tests {
         aabbs.reverse();
         bp.refit(&aabbs);
         assert!(bp.looseness() > 2.0, "{}", bp.looseness());
-        bp.rebuild(&aabbs);
+        bp.rebuild_all(&aabbs);
         assert_eq!(bp.looseness(), 1.0);
     }
 
@@ -451,9 +456,9 @@ mod tests {
         let aabbs = boxes(300);
         let mut a = BroadPhase::default();
         let mut b = BroadPhase::default();
-        a.rebuild(&aabbs);
-        b.rebuild(&boxes(10));
-        b.rebuild(&aabbs);
+        a.rebuild_all(&aabbs);
+        b.rebuild_all(&boxes(10));
+        b.rebuild_all(&aabbs);
         assert_eq!(a.items, b.items);
         assert_eq!(a.nodes.len(), b.nodes.len());
     }

@@ -710,6 +710,13 @@ pub struct BodyMotion {
     pub linear_damping: f32,
     /// Damping per second.
     pub angular_damping: f32,
+    /// Multiplies gravity.
+    #[serde(default = "one")]
+    pub gravity_scale: f32,
+}
+
+fn one() -> f32 {
+    1.0
 }
 
 /// What one contact point ends a step with.
@@ -802,7 +809,13 @@ impl Passes<'_> {
                     if m.dynamic {
                         let mut s = states.get(i);
                         let (lin, ang) = (m.linear_damping, m.angular_damping);
-                        integrate_velocity(&mut s, p.gravity, p.h, lin, ang);
+                        // A scale of 1 leaves gravity's bits as they are.
+                        let g = if m.gravity_scale == 1.0 {
+                            p.gravity
+                        } else {
+                            p.gravity * m.gravity_scale
+                        };
+                        integrate_velocity(&mut s, g, p.h, lin, ang);
                         states.set(i, s);
                     }
                 }

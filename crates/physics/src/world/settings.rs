@@ -1,0 +1,241 @@
+//! The step's settings: the knobs that trade speed for accuracy, and where the step's stages
+//! are shared with the worker threads.
+
+use glam::Vec2;
+
+use crate::error::SettingsError;
+
+/// The knobs of the step that trade speed for accuracy. Defaults are Box2D v3's.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct StepSettings {
+    /// Gravity (m/s²).
+    pub gravity: Vec2,
+    /// Stiffness of contacts (Hz); clamped to an eighth of the substep rate, which keeps low
+    /// substep counts stable (Box2D HEAD, SOFT_STEP.md 2.3). Contacts against static bodies
+    /// use twice it. Box2D's 30 Hz: at 60 Hz (with a quarter-rate clamp) the 100-row pyramid
+    /// was measured to jitter at 0.4 m/s after 500 steps, against 0.13 m/s at 30 Hz.
+    pub contact_hertz: f32,
+    /// Damping ratio of the contact spring (Box2D: 10, heavily over-damped).
+    pub contact_damping_ratio: f32,
+    /// Fastest that overlap is pushed apart (m/s), Box2D's `contactSpeed`.
+    pub max_push_speed: f32,
+    /// Rigid relax passes per substep after the soft solve (Box2D: 1).
+    pub relax_iterations: u32,
+    /// Approach speed (m/s) below which restitution is not applied.
+    pub restitution_threshold: f32,
+    /// Passes of the restitution stage at the end of the step. One pass (Box2D's) applies
+    /// each contact's bounce once, in colour order, so a body that hits two others in one
+    /// step (a wall and a ball) is sent back into the first by the second; more passes
+    /// converge to bounces that hold for every contact at once. Skipped when nothing bounces.
+    #[serde(default = "one")]
+    pub restitution_iterations: u32,
+    /// Speed cap (m/s), Box2D's `maxLinearSpeed`.
+    pub max_linear_speed: f32,
+    /// Seed each step's solve with the last step's impulses.
+    pub warm_starting: bool,
+    /// Keep a contact's manifold while its pair barely moves (Box2D v3's contact recycling):
+    /// cheaper narrow phase and steadier stacks.
+    pub contact_recycling: bool,
+    /// Solve each colour eight constraints at a time with SIMD. Off runs the scalar path,
+    /// which gives bit-identical results; it exists to measure what SIMD buys.
+    pub simd: bool,
+    /// Islands whose bodies all rested for `time_to_sleep` fall asleep and cost nothing
+    /// until something wakes them (a scene's `sleep`; Box2D's `enableSleep`, on by default).
+    #[serde(default = "yes")]
+    pub enable_sleep: bool,
+    /// Speed below which a body counts as resting (m/s; Box2D's `b2_linearSleepTolerance`
+    /// as a body's `sleepThreshold`, 0.05).
+    #[serde(default = "sleep_threshold")]
+    pub sleep_threshold: f32,
+    /// How long (s) every body of an island must rest before it sleeps (Box2D's
+    /// `B2_TIME_TO_SLEEP`, 0.5).
+    #[serde(default = "time_to_sleep")]
+    pub time_to_sleep: f32,
+}
+
+fn yes() -> bool {
+    true
+}
+fn sleep_threshold() -> f32 {
+    0.05
+}
+fn time_to_sleep() -> f32 {
+    0.5
+}
+
+fn one() -> u32 {
+    1
+}
+
+impl Default for StepSettings {
+    fn default() -> Self {
+        Self {
+            gravity: Vec2::new(0.0, -10.0),
+            contact_hertz: 30.0,
+            contact_damping_ratio: 10.0,
+            max_push_speed: 3.0,
+            relax_iterations: 1,
+            restitution_threshold: 1.0,
+            restitution_iterations: 1,
+            max_linear_speed: 400.0,
+            warm_starting: true,
+            contact_recycling: true,
+            simd: true,
+            enable_sleep: true,
+            sleep_threshold: sleep_threshold(),
+            time_to_sleep: time_to_sleep(),
+        }
+    }
+}
+
+impl StepSettings {
+    /// Checks every knob for a value the step cannot use: a non-finite or negative number
+    /// (gravity, contact hertz, damping ratio, push-out speed, restitution threshold) turns
+    /// the state non-finite or pulls bodies together; zero relax passes silently drop
+    /// friction (friction is solved in the relax pass); zero restitution passes drop every
+    /// bounce; a speed cap that is not a finite number > 0 stops every body or caps nothing.
+    /// [`World::from_scene`] and [`World::from_snapshot`] call it; so should anything that
+    /// takes settings from outside (flags, sliders, files) before
+    /// [`World::settings_mut`].
+    pub fn validate(&self) -> Result<(), SettingsError> {
+        let err = |field: &'static str, value: String, allowed: &str| SettingsError {
+            field,
+            value,
+            allowed: allowed.to_string(),
+        };
+        if !self.gravity.is_finite() {
+            return Err(err(
+                "gravity",
+                format!("{:?}", <[f32; 2]>::from(self.gravity)),
+                "two finite numbers (m/s²)",
+            ));
+        }
+        let non_negative = |field: &'static str, v: f32, unit: &str| {
+            if v.is_finite() && v >= 0.0 {
+                Ok(())
+            } else {
+                Err(err(
+                    field,
+                    v.to_string(),
+                    &format!("a finite number >= 0 ({unit})"),
+                ))
+            }
+        };
+        non_negative(
+            "contact_hertz",
+            self.contact_hertz,
+            "Hz; Box2D's default is 30",
+        )?;
+        non_negative(
+            "contact_damping_ratio",
+            self.contact_damping_ratio,
+            "Box2D's default is 10",
+        )?;
+        non_negative(
+            "max_push_speed",
+            self.max_push_speed,
+            "m/s; Box2D's default is 3",
+        )?;
+        non_negative(
+            "restitution_threshold",
+            self.restitution_threshold,
+            "m/s; Box2D's default is 1",
+        )?;
+        non_negative(
+            "sleep_threshold",
+            self.sleep_threshold,
+            "m/s; Box2D's default is 0.05",
+        )?;
+        non_negative(
+            "time_to_sleep",
+            self.time_to_sleep,
+            "s; Box2D's default is 0.5",
+        )?;
+        if !(self.max_linear_speed.is_finite() && self.max_linear_speed > 0.0) {
+            return Err(err(
+                "max_linear_speed",
+                self.max_linear_speed.to_string(),
+                "a finite number > 0 (m/s; 0 would stop every body; Box2D's default is 400)",
+            ));
+        }
+        if self.relax_iterations == 0 {
+            return Err(err(
+                "relax_iterations",
+                "0".into(),
+                "1 or more (friction is solved in the relax pass, so 0 would silently remove \
+                 it; Box2D's default is 1)",
+            ));
+        }
+        if self.restitution_iterations == 0 {
+            return Err(err(
+                "restitution_iterations",
+                "0".into(),
+                "1 or more (0 would silently remove every bounce; Box2D's default is 1)",
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The least work per worker for which a stage of the step is split over the world's threads:
+/// below it the stage runs on one thread, and a step none of whose stages reaches its
+/// threshold runs inline on the caller's thread without waking the crew. Results never depend
+/// on these (the tests of determinism run with [`WideThresholds::ALWAYS`] and the defaults).
+///
+/// The defaults come from measurement (`tumble-bench thresholds`, docs/bench/thresholds.md):
+/// each is about where splitting the stage over two workers begins to pay on this project's
+/// 2-core machine.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct WideThresholds {
+    /// Contacts (and moved proxies, which make contacts), for the step to leave the caller's
+    /// thread at all: below it every stage runs inline (each split stage costs a hand-off to
+    /// the followers and a wait for the last part).
+    pub step: usize,
+    /// Moved proxies, for the broad phase's queries.
+    pub broad_phase: usize,
+    /// Contacts, for the narrow phase.
+    pub narrow_phase: usize,
+    /// Touching contacts, for building, storing and checking the constraints.
+    pub prepare: usize,
+    /// Touching contacts, for the substeps and restitution (the solver's stage board).
+    pub solve: usize,
+    /// Bodies, for finalize.
+    pub finalize: usize,
+}
+
+impl WideThresholds {
+    /// Every stage of more than one item is split (for tests and measurement).
+    pub const ALWAYS: WideThresholds = WideThresholds {
+        step: 1,
+        broad_phase: 1,
+        narrow_phase: 1,
+        prepare: 1,
+        solve: 1,
+        finalize: 1,
+    };
+    /// No stage is ever split: every step runs inline.
+    pub const NEVER: WideThresholds = WideThresholds {
+        step: usize::MAX / 2,
+        broad_phase: usize::MAX / 2,
+        narrow_phase: usize::MAX / 2,
+        prepare: usize::MAX / 2,
+        solve: usize::MAX / 2,
+        finalize: usize::MAX / 2,
+    };
+}
+
+impl Default for WideThresholds {
+    fn default() -> Self {
+        // docs/bench/thresholds.md: about half of each crossover measured on 2 cores (the
+        // lower of two runs where one size's outlier moved a crossover, rounded).
+        WideThresholds {
+            step: 750,
+            broad_phase: 120,
+            narrow_phase: 630,
+            prepare: 1200,
+            solve: 950,
+            finalize: 1000,
+        }
+    }
+}
+

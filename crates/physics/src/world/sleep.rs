@@ -1,0 +1,243 @@
+//! Touching, islands and sleep (Box2D v3's `island.c` and `solver_set.c`, in flat arrays):
+//! contacts that begin touching join their bodies' islands and wake a sleeping one; contacts
+//! that stop touching mark their island for a split; an island whose bodies all rested for
+//! `time_to_sleep` falls asleep, and then costs nothing: its bodies are not integrated, not
+//! finalized and not moved in the broad phase, and its contacts are neither collided nor
+//! solved (their manifolds and impulses wait for it to wake).
+//!
+//! Everything here is serial, in contact or body order, so it is the same on any thread count.
+
+use glam::Vec2;
+
+use super::{ContactKey, World, pair_key};
+use crate::island::NO_ISLAND;
+use crate::scene::BodyKind;
+
+impl World {
+    /// Touch changes (reads each contact's key; writes islands, awake flags, the contact
+    /// list): after the narrow phase, in contact order, a contact that began touching wakes
+    /// a sleeping body of it and links two dynamic bodies' islands; one that stopped (or
+    /// parted) unlinks them. Then parted contacts are removed in descending index order, so
+    /// the surviving order is deterministic. `changes` is the narrow phase's count of such
+    /// contacts: with none, nothing is walked.
+    pub(super) fn update_touching(&mut self, changes: usize) {
+        if self.kinematic_count > 0 {
+            self.keep_touched_by_kinematic_awake();
+        }
+        if changes == 0 {
+            return;
+        }
+        let mut woke = false;
+        for k in 0..self.contacts.len() {
+            let key = self.contact_keys[k];
+            let c = &mut self.contacts[k];
+            let now = key.touching && !key.remove;
+            if now == c.touched {
+                continue;
+            }
+            c.touched = now;
+            let (a, b) = (c.body_a, c.body_b);
+            let dynamic = (c.masses[0].dynamic, c.masses[1].dynamic);
+            if now {
+                for body in [a, b] {
+                    if self.sims[body as usize].kind == BodyKind::Dynamic
+                        && !self.awake[body as usize]
+                    {
+                        self.wake_island_of(body);
+                        woke = true;
+                    }
+                }
+                if dynamic.0 && dynamic.1 {
+                    self.islands.link(a, b);
+                }
+            } else if dynamic.0 && dynamic.1 {
+                self.islands.unlink(a, b);
+            }
+        }
+        for k in (0..self.contacts.len()).rev() {
+            if self.contact_keys[k].remove {
+                self.contact_keys.swap_remove(k);
+                let c = self.contacts.swap_remove(k);
+                self.pairs.remove(&pair_key(c.shape_a, c.shape_b));
+                if k < self.contacts.len() {
+                    let moved = &self.contacts[k];
+                    self.pairs
+                        .insert(pair_key(moved.shape_a, moved.shape_b), k as u32);
+                }
+            }
+        }
+        if woke {
+            self.refresh_contact_keys();
+        }
+    }
+
+    /// A kinematic body that moves keeps the dynamic bodies it touches from resting (it
+    /// would otherwise push them after they fell asleep under it).
+    fn keep_touched_by_kinematic_awake(&mut self) {
+        let threshold = self.settings.sleep_threshold;
+        let mut woke = false;
+        for k in 0..self.contacts.len() {
+            if !self.contact_keys[k].touching {
+                continue;
+            }
+            let c = &self.contacts[k];
+            for (mover, other) in [(c.body_a, c.body_b), (c.body_b, c.body_a)] {
+                let (m, o) = (mover as usize, other as usize);
+                if self.sims[m].kind != BodyKind::Kinematic
+                    || self.sims[o].kind != BodyKind::Dynamic
+                {
+                    continue;
+                }
+                let st = &self.states[m];
+                if st.v.length().max(self.sims[m].extent * st.w.abs()) > threshold {
+                    self.sims[o].sleep_time = 0.0;
+                    if !self.awake[o] {
+                        self.wake_island_of(other);
+                        woke = true;
+                    }
+                }
+            }
+        }
+        if woke {
+            self.refresh_contact_keys();
+        }
+    }
+
+    /// Sleep (reads bodies' sleep times and islands; writes awake flags, velocities, motion
+    /// flags, contact keys): after finalize, every awake island whose bodies all rested for
+    /// `time_to_sleep` falls asleep, unless a constraint inside it went since it was whole;
+    /// then the largest such island is split this step (Box2D splits one per step too), and
+    /// its parts may sleep from the next.
+    pub(super) fn update_sleep(&mut self, _dt: f32) {
+        if !self.settings.enable_sleep {
+            return;
+        }
+        let time_to_sleep = self.settings.time_to_sleep;
+        let mut sleepy = Vec::new();
+        let mut split: Option<(usize, u32)> = None;
+        for (k, island) in self.islands.islands.iter().enumerate() {
+            if !island.awake || island.bodies.is_empty() {
+                continue;
+            }
+            let rested = island.bodies.iter().all(|&b| {
+                self.sims[b as usize].sleep_time >= time_to_sleep
+                    && self.records[b as usize].enable_sleep
+            });
+            if !rested {
+                continue;
+            }
+            if island.constraints_removed > 0 {
+                let size = island.bodies.len();
+                if split.is_none_or(|(s, _)| size > s) {
+                    split = Some((size, k as u32));
+                }
+            } else {
+                sleepy.push(k as u32);
+            }
+        }
+        if let Some((_, k)) = split {
+            self.split_island(k);
+        }
+        if sleepy.is_empty() {
+            return;
+        }
+        for k in sleepy {
+            self.islands.islands[k as usize].awake = false;
+            let bodies = std::mem::take(&mut self.islands.islands[k as usize].bodies);
+            for &b in &bodies {
+                let i = b as usize;
+                self.awake[i] = false;
+                let st = &mut self.states[i];
+                st.v = Vec2::ZERO;
+                st.w = 0.0;
+                self.refresh_motion(b);
+            }
+            self.islands.islands[k as usize].bodies = bodies;
+        }
+        self.refresh_contact_keys();
+    }
+
+    /// Splits island `k` into the parts its touching contacts hold together.
+    fn split_island(&mut self, k: u32) {
+        let of = &self.islands.of_body;
+        let links: Vec<(u32, u32)> = self
+            .contacts
+            .iter()
+            .zip(&self.contact_keys)
+            .filter(|(c, key)| {
+                key.touching
+                    && c.masses[0].dynamic
+                    && c.masses[1].dynamic
+                    && of[c.body_a as usize] == k
+                    && of[c.body_b as usize] == k
+            })
+            .map(|(c, _)| (c.body_a, c.body_b))
+            .collect();
+        self.islands.split(k, &links);
+    }
+
+    /// Wakes the island of dynamic body `body` (without refreshing the contact keys: the
+    /// caller does, once).
+    fn wake_island_of(&mut self, body: u32) {
+        let k = self.islands.of_body[body as usize];
+        if k == NO_ISLAND || self.islands.islands[k as usize].awake {
+            return;
+        }
+        self.islands.islands[k as usize].awake = true;
+        let bodies = std::mem::take(&mut self.islands.islands[k as usize].bodies);
+        for &b in &bodies {
+            self.awake[b as usize] = true;
+            self.sims[b as usize].sleep_time = 0.0;
+            self.refresh_motion(b);
+        }
+        self.islands.islands[k as usize].bodies = bodies;
+    }
+
+    /// Wakes a body's island (an API call changed it), and resets its rest.
+    pub(super) fn wake_body(&mut self, body: u32) {
+        let i = body as usize;
+        self.sims[i].sleep_time = 0.0;
+        if self.sims[i].kind == BodyKind::Dynamic && !self.awake[i] {
+            self.wake_island_of(body);
+            self.refresh_contact_keys();
+        }
+    }
+
+    /// Wakes the body and every body it touches (it is about to change or go, and what
+    /// rests on it must notice).
+    pub(super) fn wake_touching(&mut self, body: u32) {
+        self.wake_body(body);
+        let mut others = Vec::new();
+        for (c, key) in self.contacts.iter().zip(&self.contact_keys) {
+            if key.touching && (c.body_a == body || c.body_b == body) {
+                others.push(if c.body_a == body { c.body_b } else { c.body_a });
+            }
+        }
+        let mut woke = false;
+        for o in others {
+            let i = o as usize;
+            self.sims[i].sleep_time = 0.0;
+            if self.sims[i].kind == BodyKind::Dynamic && !self.awake[i] {
+                self.wake_island_of(o);
+                woke = true;
+            }
+        }
+        if woke {
+            self.refresh_contact_keys();
+        }
+    }
+
+    /// Recomputes each contact's `frozen` and `sleeping` flags from the awake flags.
+    pub(super) fn refresh_contact_keys(&mut self) {
+        for (c, key) in self.contacts.iter().zip(&mut self.contact_keys) {
+            let fresh = ContactKey::of(c, &self.awake);
+            key.frozen = fresh.frozen;
+            key.sleeping = fresh.sleeping;
+        }
+    }
+
+    /// Whether body `index` is awake.
+    pub fn is_awake(&self, index: usize) -> bool {
+        self.awake[index]
+    }
+}

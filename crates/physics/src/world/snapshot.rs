@@ -1,0 +1,218 @@
+//! Snapshots: everything that decides a world's future, as plain serde data.
+
+use super::{
+    BodyRecord, BodySim, Contact, ContactKey, NONE, ShapeRecord, StepSettings, World, pair_key,
+};
+use crate::error::SceneError;
+use crate::id::Slots;
+use crate::island::{Islands, NO_ISLAND};
+use crate::scene::BodyKind;
+use crate::shape::{Aabb, Shape};
+use crate::solver::contact_solver::BodyState;
+use crate::solver::{BodyMotion, SolverBody};
+
+/// Everything that decides a world's future, as plain serde data: bodies, shapes, ids and
+/// their free slots, contacts with their warm-start impulses and recycling caches, islands
+/// and who sleeps, and the broad phase's pending moves. Restoring it and stepping gives
+/// bit-identical states to never having stopped. The thread count is not part of it (it
+/// never changes results). The encoding is the caller's choice.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct WorldSnapshot {
+    pub(super) settings: StepSettings,
+    body_slots: Slots,
+    sims: Vec<BodySim>,
+    pub(super) states: Vec<BodyState>,
+    records: Vec<BodyRecord>,
+    solver_bodies: Vec<SolverBody>,
+    motion: Vec<BodyMotion>,
+    awake: Vec<bool>,
+    shape_slots: Slots,
+    shapes: Vec<Shape>,
+    shape_records: Vec<ShapeRecord>,
+    fat_aabbs: Vec<Aabb>,
+    moved: Vec<u32>,
+    contacts: Vec<Contact>,
+    islands: Islands,
+    steps: u64,
+    speed_caps: u64,
+    /// Bodies the numerical guard has stopped (see [`World::non_finite_bodies`]); absent
+    /// from snapshots written before it was counted, which read as 0.
+    #[serde(default)]
+    non_finite_bodies: u64,
+}
+
+impl WorldSnapshot {
+    /// Bytes its arrays hold in memory (their lengths times their element sizes): what a
+    /// caller keeping many snapshots (the viewer's replay) budgets with.
+    pub fn approx_bytes(&self) -> usize {
+        use std::mem::size_of_val;
+        std::mem::size_of::<Self>()
+            + size_of_val(&self.sims[..])
+            + size_of_val(&self.states[..])
+            + size_of_val(&self.records[..])
+            + size_of_val(&self.solver_bodies[..])
+            + size_of_val(&self.motion[..])
+            + size_of_val(&self.awake[..])
+            + size_of_val(&self.shapes[..])
+            + size_of_val(&self.shape_records[..])
+            + size_of_val(&self.fat_aabbs[..])
+            + size_of_val(&self.moved[..])
+            + size_of_val(&self.contacts[..])
+            + self.islands.islands.iter().map(|i| 4 * i.bodies.len()).sum::<usize>()
+            + 4 * self.islands.of_body.len()
+    }
+
+    /// Live bodies in the snapshot.
+    pub fn body_count(&self) -> usize {
+        self.body_slots.live()
+    }
+}
+
+impl World {
+    /// The world's state, to save and restore (see [`WorldSnapshot`]).
+    pub fn snapshot(&self) -> WorldSnapshot {
+        WorldSnapshot {
+            settings: self.settings,
+            body_slots: self.body_slots.clone(),
+            sims: self.sims.clone(),
+            states: self.states.clone(),
+            records: self.records.clone(),
+            solver_bodies: self.solver_bodies.clone(),
+            motion: self.motion.clone(),
+            awake: self.awake.clone(),
+            shape_slots: self.shape_slots.clone(),
+            shapes: self.shapes.clone(),
+            shape_records: self.shape_records.clone(),
+            fat_aabbs: self.fat_aabbs.clone(),
+            moved: self.moved.clone(),
+            contacts: self.contacts.clone(),
+            islands: self.islands.clone(),
+            steps: self.steps,
+            speed_caps: self.speed_caps,
+            non_finite_bodies: self.non_finite_bodies,
+        }
+    }
+
+    /// A world in the state of `snapshot`, on all cores. Fails if the snapshot's arrays do
+    /// not agree (a corrupt or foreign file: lengths, contacts or shapes naming bodies it
+    /// lacks, a broken island), or if its settings are out of range
+    /// ([`StepSettings::validate`]).
+    pub fn from_snapshot(snapshot: WorldSnapshot) -> Result<World, SceneError> {
+        snapshot.settings.validate()?;
+        let corrupt = |why: String| SceneError::Scene {
+            field: "snapshot".into(),
+            value: format!("inconsistent ({why})"),
+            allowed: "a snapshot written by World::snapshot".into(),
+        };
+        let n = snapshot.sims.len();
+        let body_lengths = [
+            snapshot.states.len(),
+            snapshot.records.len(),
+            snapshot.solver_bodies.len(),
+            snapshot.motion.len(),
+            snapshot.awake.len(),
+            snapshot.body_slots.len(),
+        ];
+        if body_lengths.iter().any(|&l| l != n) {
+            return Err(corrupt("body arrays of different lengths".into()));
+        }
+        let m = snapshot.shapes.len();
+        if [
+            snapshot.shape_records.len(),
+            snapshot.fat_aabbs.len(),
+            snapshot.shape_slots.len(),
+        ]
+        .iter()
+        .any(|&l| l != m)
+        {
+            return Err(corrupt("shape arrays of different lengths".into()));
+        }
+        let live_shape = |s: u32| snapshot.shape_slots.is_alive(s as usize);
+        let bad_shape = snapshot.shapes.iter().enumerate().any(|(s, shape)| {
+            let r = &snapshot.shape_records[s];
+            let bad_geometry = match shape {
+                Shape::Polygon(p) => !(3..=crate::MAX_POLYGON_VERTICES).contains(&p.count),
+                Shape::Circle(_) => false,
+            };
+            live_shape(s as u32)
+                && (bad_geometry
+                    || r.body as usize >= n
+                    || !snapshot.body_slots.is_alive(r.body as usize)
+                    || (r.next != NONE && !live_shape(r.next)))
+        });
+        let bad_contact = snapshot.contacts.iter().any(|c| {
+            !live_shape(c.shape_a)
+                || !live_shape(c.shape_b)
+                || c.body_a as usize >= n
+                || c.body_b as usize >= n
+                || c.manifold.count > 2
+        });
+        let bad_list = snapshot.records.iter().enumerate().any(|(i, r)| {
+            snapshot.body_slots.is_alive(i) && r.first_shape != NONE && !live_shape(r.first_shape)
+        });
+        if bad_shape || bad_contact || bad_list || snapshot.moved.iter().any(|&s| !live_shape(s)) {
+            return Err(corrupt("a shape or contact names what does not exist".into()));
+        }
+        if snapshot.islands.of_body.len() > n
+            || snapshot
+                .islands
+                .islands
+                .iter()
+                .flat_map(|i| &i.bodies)
+                .any(|&b| b as usize >= n)
+        {
+            return Err(corrupt("an island names a body that does not exist".into()));
+        }
+        snapshot.islands.check().map_err(corrupt)?;
+        let mut world = World::new(snapshot.settings);
+        let mut moved_flags = vec![false; m];
+        for &s in &snapshot.moved {
+            moved_flags[s as usize] = true;
+        }
+        world.pairs = snapshot
+            .contacts
+            .iter()
+            .enumerate()
+            .map(|(k, c)| (pair_key(c.shape_a, c.shape_b), k as u32))
+            .collect();
+        world.body_slots = snapshot.body_slots;
+        world.sims = snapshot.sims;
+        world.states = snapshot.states;
+        world.records = snapshot.records;
+        world.solver_bodies = snapshot.solver_bodies;
+        world.motion = snapshot.motion;
+        world.awake = snapshot.awake;
+        world.guarded = vec![false; n];
+        world.kinematic_count = (0..n)
+            .filter(|&i| world.body_slots.is_alive(i) && world.sims[i].kind == BodyKind::Kinematic)
+            .count();
+        world.shape_body = snapshot.shape_records.iter().map(|r| r.body).collect();
+        world.shape_slots = snapshot.shape_slots;
+        world.shapes = snapshot.shapes;
+        world.shape_records = snapshot.shape_records;
+        world.fat_aabbs = snapshot.fat_aabbs;
+        world.moved = snapshot.moved;
+        world.moved_flags = moved_flags;
+        world.contacts = snapshot.contacts;
+        for c in &mut world.contacts {
+            c.masses = [
+                world.solver_bodies[c.body_a as usize],
+                world.solver_bodies[c.body_b as usize],
+            ];
+        }
+        world.contact_keys = world
+            .contacts
+            .iter()
+            .map(|c| ContactKey::of(c, &world.awake))
+            .collect();
+        world.islands = snapshot.islands;
+        world.islands.grow(n);
+        let _ = NO_ISLAND;
+        world.steps = snapshot.steps;
+        world.speed_caps = snapshot.speed_caps;
+        world.non_finite_bodies = snapshot.non_finite_bodies;
+        world.proxies_changed = true;
+        world.tree_dirty = true;
+        Ok(world)
+    }
+}

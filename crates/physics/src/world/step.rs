@@ -1,0 +1,611 @@
+//! The step: a pipeline of named, timed stages, each saying what it reads and writes.
+//!
+//! broad phase → narrow phase → touch changes (islands, waking) → prepare → substeps (solve)
+//! → restitution → store → finalize → sleep.
+//!
+//! A step runs on the caller's thread; when it is large enough (`WideThresholds`) its
+//! stages are shared with the world's crew of worker threads. Shared stages write only their
+//! own index's slot or part, so their results are the same on any thread count; the stages
+//! that change islands run serially in contact order.
+
+#[cfg(not(target_arch = "wasm32"))]
+use std::time::Instant;
+
+use glam::Vec2;
+// `std::time::Instant` panics on the web; web-time's reads `performance.now()` there.
+#[cfg(target_arch = "wasm32")]
+use web_time::Instant;
+
+use super::{BodySim, Contact, ContactCache, ContactKey, ShapeRecord, World, pair_key};
+use crate::collision::{Manifold, collide};
+use crate::parallel::{Spread, for_each_part, for_parts};
+use crate::profile::StepProfile;
+use crate::scene::BodyKind;
+use crate::shape::{Aabb, Shape};
+use crate::solver::contact_solver::{BodyState, Softness};
+use crate::solver::{SolverParams, SubstepParams, Touching};
+use crate::SPECULATIVE_DISTANCE;
+
+/// Contacts whose relative pose moved less than this keep their manifold (Box2D's
+/// `B2_CONTACT_RECYCLE_DISTANCE`, 10 slops).
+const RECYCLE_DISTANCE: f32 = 10.0 * crate::LINEAR_SLOP;
+/// ...and whose bodies each turned less than about 11.5° (`B2_CONTACT_RECYCLE_COS_ANGLE`).
+const RECYCLE_COS_ANGLE: f32 = 0.98;
+
+impl World {
+    /// Advances the world by `dt` seconds in `substeps` solver substeps.
+    ///
+    /// Does nothing (no step is counted, the profile is zeroed) for a `dt` that
+    /// [`World::steppable`] refuses: not finite, not > 0, subnormal, or so small that one
+    /// substep `dt / substeps` is subnormal (its inverse, the substep rate, would overflow to
+    /// infinity and turn the state non-finite); nor for `substeps == 0`. Scene validation
+    /// refuses such a scene's `dt` with a message.
+    pub fn step(&mut self, dt: f32, substeps: u32) {
+        let start = Instant::now();
+        let mut profile = StepProfile::default();
+        if !World::steppable(dt, substeps) {
+            self.profile = profile;
+            return;
+        }
+        // Only a wide step touches the crew (an inline one takes not even its reference
+        // count). The step runs on this thread either way; a wide one's stages are shared.
+        let crew = if self.goes_wide() {
+            self.crew.clone()
+        } else {
+            None
+        };
+        let spread = crew.as_deref().map_or(Spread::INLINE, Spread::over);
+
+        let t = Instant::now();
+        self.update_pairs(spread);
+        profile.broad_phase_ms = ms(t);
+
+        let t = Instant::now();
+        let changes = self.collide(dt, spread);
+        self.update_touching(changes);
+        profile.narrow_phase_ms = ms(t);
+
+        self.solve(dt, substeps, spread, &mut profile);
+
+        let t = Instant::now();
+        self.finalize(dt, spread);
+        self.update_sleep(dt);
+        profile.finalize_ms = ms(t);
+
+        profile.inline = crew.is_none();
+        self.steps += 1;
+        profile.bodies = self.body_slots.live();
+        profile.contacts = self.contacts.len();
+        profile.moved = self.moved.len();
+        profile.recycled = self.profile_recycled;
+        profile.non_finite = self.guarded_last_step;
+        profile.step_ms = ms(start);
+        self.profile = profile;
+    }
+
+    /// Whether [`World::step`] steps with this `dt` and `substeps`: `dt` a finite, normal
+    /// (not subnormal) number > 0, at least one substep, and `dt / substeps` normal too.
+    pub fn steppable(dt: f32, substeps: u32) -> bool {
+        dt > 0.0 && dt.is_normal() && substeps > 0 && (dt / substeps as f32).is_normal()
+    }
+
+    /// Whether this step shares its stages with the crew: when there is one, the step has
+    /// [`super::WideThresholds::step`]'s contacts and moved proxies, and some stage of it
+    /// would be split, judged on the counts the step starts from (a stage whose count
+    /// crosses its threshold during the step runs on one thread until the next step).
+    fn goes_wide(&self) -> bool {
+        let Some(crew) = &self.crew else {
+            return false;
+        };
+        let all = Spread::over(crew);
+        let (w, contacts) = (&self.wide, self.contact_keys.len());
+        let split = all.goes_wide(self.moved.len(), w.broad_phase)
+            || all.goes_wide(contacts, w.narrow_phase)
+            || all.goes_wide(self.touching.len(), w.prepare.min(w.solve))
+            || all.goes_wide(self.sims.len(), w.finalize);
+        // A new scene's first step has no contacts yet, but its moved proxies will make them.
+        split && all.goes_wide(contacts + self.moved.len(), w.step)
+    }
+
+    /// Broad phase (reads fat boxes, filters, bodies' kinds; writes contacts and pairs):
+    /// rebuild the tree if a fat box changed, then find the new pairs of every moved proxy
+    /// (in parallel, each into its own list) and create their contacts serially in moved
+    /// order.
+    fn update_pairs(&mut self, spread: Spread<'_>) {
+        if self.moved.is_empty() {
+            return;
+        }
+        if self.tree_dirty {
+            // A cheap refit, and a full rebuild (serial, O(n log n): 3.4 ms of a 20,000-body
+            // pile's 16 ms step when it ran every step) only when proxies were added or
+            // removed or the refitted tree has grown a quarter costlier than a fresh one:
+            // bodies that move together (a falling pile, a drifting cloud) keep a refitted
+            // tree good. The tree's shape never changes which pairs are found, nor their
+            // order (both are sorted).
+            let slots = &self.shape_slots;
+            if self.proxies_changed {
+                self.broad_phase
+                    .rebuild(&self.fat_aabbs, |s| slots.is_alive(s as usize));
+                self.proxies_changed = false;
+            } else {
+                self.broad_phase.refit(&self.fat_aabbs);
+                if self.broad_phase.looseness() > 1.25 {
+                    self.broad_phase
+                        .rebuild(&self.fat_aabbs, |s| slots.is_alive(s as usize));
+                }
+            }
+            self.tree_dirty = false;
+        }
+        let bp = &self.broad_phase;
+        let aabbs = &self.fat_aabbs;
+        // Whether each body is dynamic, from the 12-byte solver records rather than the
+        // body sims (a cache line each, read at random for every overlapping pair).
+        let dynamic = &self.solver_bodies;
+        let body_of = &self.shape_body;
+        let records = &self.shape_records;
+        let moved_flags = &self.moved_flags;
+        let pairs = &self.pairs;
+        // A new contact only for a pair of shapes of two bodies, one of them dynamic (no
+        // other pair can ever push anything), whose filters let them touch, neither a
+        // sensor, that has none yet.
+        let wants_contact = |p: u32, q: u32| {
+            let (bp_, bq) = (body_of[p as usize], body_of[q as usize]);
+            bp_ != bq
+                && (dynamic[bp_ as usize].dynamic || dynamic[bq as usize].dynamic)
+                && {
+                    let (rp, rq) = (&records[p as usize], &records[q as usize]);
+                    !rp.sensor && !rq.sensor && rp.filter.should_collide(&rq.filter)
+                }
+                && !pairs.contains_key(&pair_key(p, q))
+        };
+        if self.moved.len() * 2 > self.broad_phase.proxy_count() {
+            // Most proxies moved (smash, an explosion, the first step): walk the tree against
+            // itself once instead of querying it per proxy. The same pairs as the queries
+            // would find, created in the same order (each by its finder's place in `moved`,
+            // then the other's id), so the results do not depend on which way was taken.
+            let mut rank = std::mem::take(&mut self.moved_rank);
+            rank.clear();
+            rank.resize(aabbs.len(), u32::MAX);
+            for (k, &i) in self.moved.iter().enumerate() {
+                rank[i as usize] = k as u32;
+            }
+            let keep = |p: u32, q: u32| {
+                let (mp, mq) = (moved_flags[p as usize], moved_flags[q as usize]);
+                if !(mp || mq) || !wants_contact(p, q) {
+                    return None;
+                }
+                // The finder is the moved one; of two moved, the larger id (as below).
+                let (finder, other) = if mp && mq {
+                    (p.max(q), p.min(q))
+                } else if mp {
+                    (p, q)
+                } else {
+                    (q, p)
+                };
+                Some((u64::from(rank[finder as usize]) << 32) | u64::from(other))
+            };
+            let walk = spread.for_stage(self.moved.len(), self.wide.broad_phase);
+            let mut found = bp.overlapping_pairs_parallel(aabbs, walk, &keep);
+            // Each task's pairs come sorted: a merge sort joins the runs in O(n log tasks).
+            found.sort();
+            let moved = std::mem::take(&mut self.moved);
+            for key in found {
+                let (finder, other) = (moved[(key >> 32) as usize], key as u32);
+                self.create_contact(finder, other);
+            }
+            self.moved_rank = rank;
+            self.finish_moved(moved);
+            return;
+        }
+        // Each part of the moved proxies lists its new pairs in moved order, each proxy's
+        // sorted by the other's id; the parts are joined in order.
+        let found = for_parts(
+            spread,
+            &self.moved[..],
+            self.wide.broad_phase,
+            &|_, part: &[u32]| {
+                let mut out = Vec::new();
+                for &i in part {
+                    let start = out.len();
+                    bp.query(&aabbs[i as usize], aabbs, |j| {
+                        // A pair of moved proxies is found from the larger id only.
+                        if j != i && !(moved_flags[j as usize] && j > i) && wants_contact(i, j) {
+                            out.push((i, j));
+                        }
+                    });
+                    out[start..].sort_unstable();
+                }
+                out
+            },
+            &|mut a, b| {
+                a.extend(b);
+                a
+            },
+        );
+        for (i, j) in found {
+            self.create_contact(i, j);
+        }
+        let moved = std::mem::take(&mut self.moved);
+        self.finish_moved(moved);
+    }
+
+    /// Clears the moved proxies once their pairs are made, keeping the buffer.
+    fn finish_moved(&mut self, mut moved: Vec<u32>) {
+        for &i in &moved {
+            self.moved_flags[i as usize] = false;
+        }
+        moved.clear();
+        self.moved = moved;
+    }
+
+    /// A contact between shapes `i` and `j`.
+    fn create_contact(&mut self, i: u32, j: u32) {
+        // Polygon first when a polygon meets a circle; otherwise the lower id first.
+        let (mut a, mut b) = if i < j { (i, j) } else { (j, i) };
+        if matches!(self.shapes[a as usize], Shape::Circle(_))
+            && matches!(self.shapes[b as usize], Shape::Polygon(_))
+        {
+            std::mem::swap(&mut a, &mut b);
+        }
+        let (ra, rb) = (&self.shape_records[a as usize], &self.shape_records[b as usize]);
+        let contact = Contact {
+            shape_a: a,
+            shape_b: b,
+            body_a: ra.body,
+            body_b: rb.body,
+            // Mixing rules: Box2D's defaults (and the contract's).
+            friction: (ra.friction * rb.friction).sqrt(),
+            restitution: ra.restitution.max(rb.restitution),
+            manifold: Manifold::default(),
+            cache: None,
+            touched: false,
+            masses: [
+                self.solver_bodies[ra.body as usize],
+                self.solver_bodies[rb.body as usize],
+            ],
+        };
+        self.pairs
+            .insert(pair_key(a, b), self.contacts.len() as u32);
+        self.contact_keys.push(ContactKey::of(&contact, &self.awake));
+        self.contacts.push(contact);
+    }
+
+    /// Narrow phase (reads poses, velocities, shapes, fat boxes; writes each contact's
+    /// manifold and key): every contact not frozen by sleep computes its manifold into its
+    /// own slot, carrying impulses over by feature id. Returns how many contacts began or
+    /// stopped touching, or parted (`update_touching` then handles them serially).
+    fn collide(&mut self, dt: f32, spread: Spread<'_>) -> usize {
+        let sims = &self.sims;
+        let states = &self.states;
+        let shapes = &self.shapes;
+        let records = &self.shape_records;
+        let aabbs = &self.fat_aabbs;
+        let recycling = self.settings.contact_recycling;
+        let collide_one = |c: &mut Contact, key: &mut ContactKey| -> (usize, usize) {
+            if key.frozen {
+                return (0, 0);
+            }
+            let (sa, sb) = (c.shape_a as usize, c.shape_b as usize);
+            if !aabbs[sa].overlaps(&aabbs[sb]) {
+                key.remove = true;
+                return (0, 1);
+            }
+            let (a, b) = (c.body_a as usize, c.body_b as usize);
+            let (xa, xb) = (sims[a].xf, sims[b].xf);
+            if recycling && recycle(c, &sims[a], &sims[b]) {
+                key.touching = c.manifold.count > 0;
+                return (1, usize::from(key.touching != c.touched));
+            }
+            c.cache = Some(ContactCache {
+                q_a: xa.q,
+                q_b: xb.q,
+                relative: xa.inv_mul(xb),
+            });
+            // Speculative margin: how far the pair can close in one step, so bodies meet
+            // without tunnelling at ordinary speeds.
+            let (va, vb) = (&states[a], &states[b]);
+            let closing =
+                (vb.v - va.v).length() + va.w.abs() * sims[a].extent + vb.w.abs() * sims[b].extent;
+            let max_distance = SPECULATIVE_DISTANCE + dt * closing;
+            let old = c.manifold;
+            let (ra, rb) = (&records[sa], &records[sb]);
+            // A shape off its body's centre collides at its own pose; its anchors are then
+            // moved to be relative to the body's centre, as the solver wants them.
+            let pose_a = if ra.offset { xa.mul(ra.from_center) } else { xa };
+            let pose_b = if rb.offset { xb.mul(rb.from_center) } else { xb };
+            let mut m = collide(&shapes[sa], pose_a, &shapes[sb], pose_b, max_distance);
+            for p in &mut m.points[..m.count] {
+                if ra.offset {
+                    p.anchor_a += pose_a.p - xa.p;
+                }
+                if rb.offset {
+                    p.anchor_b += pose_b.p - xb.p;
+                }
+                p.base_separation = p.separation;
+                if let Some(o) = old.points().iter().find(|o| o.id == p.id) {
+                    p.normal_impulse = o.normal_impulse;
+                    p.tangent_impulse = o.tangent_impulse;
+                    p.persisted = true;
+                }
+            }
+            c.manifold = m;
+            key.touching = m.count > 0;
+            (0, usize::from(key.touching != c.touched))
+        };
+        let (recycled, changes) = for_parts(
+            spread,
+            (&mut self.contacts[..], &mut self.contact_keys[..]),
+            self.wide.narrow_phase,
+            &|_, (contacts, keys): (&mut [Contact], &mut [ContactKey])| {
+                contacts
+                    .iter_mut()
+                    .zip(keys)
+                    .map(|(c, key)| collide_one(c, key))
+                    .fold((0, 0), |(r, n), (a, b)| (r + a, n + b))
+            },
+            &|a, b| (a.0 + b.0, a.1 + b.1),
+        );
+        self.profile_recycled = recycled;
+        changes
+    }
+
+    /// Prepare, the substep loop, restitution and storing impulses (reads the touching,
+    /// awake contacts and the bodies' states; writes states and impulses).
+    fn solve(&mut self, dt: f32, substeps: u32, spread: Spread<'_>, profile: &mut StepProfile) {
+        let t = Instant::now();
+        let h = dt / substeps as f32;
+        let inv_h = 1.0 / h;
+        let s = self.settings;
+        // Soft contacts no stiffer than an eighth of the substep rate (Box2D HEAD).
+        let hertz = s.contact_hertz.min(0.125 * inv_h);
+        let params = SolverParams {
+            contact_softness: Softness::new(hertz, s.contact_damping_ratio, h),
+            static_softness: Softness::new(2.0 * hertz, s.contact_damping_ratio, h),
+            warm_starting: s.warm_starting,
+        };
+        // The touching contacts of awake bodies in contact order, each with what the serial
+        // colouring needs, so that it never reads the contacts. Serial, into the kept
+        // buffer: a scan of the small keys costs about a nanosecond a contact, and rayon's
+        // parallel extend allocates a list of vectors each step (issue 14: a steady step
+        // allocates nothing).
+        self.touching.clear();
+        self.touching.extend(
+            self.contact_keys
+                .iter()
+                .enumerate()
+                .filter(|(_, key)| key.touching && !key.sleeping)
+                .map(|(k, key)| Touching {
+                    contact: k as u32,
+                    dynamic: key.dynamic,
+                }),
+        );
+        profile.touching = self.touching.len();
+        self.solver.use_wide = s.simd;
+        self.solver.prepare(
+            &self.touching,
+            &self.contacts,
+            self.solver_bodies.len(),
+            &self.states,
+            &params,
+            spread,
+            self.wide.prepare,
+        );
+        profile.colors = self.solver.active_colors();
+        profile.overflow = self.solver.overflow_count();
+        profile.prepare_ms = ms(t);
+
+        let t = Instant::now();
+        let step = SubstepParams {
+            substeps,
+            h,
+            gravity: s.gravity,
+            relax_iterations: s.relax_iterations,
+            max_push_speed: s.max_push_speed,
+            max_linear_speed: s.max_linear_speed,
+            restitution_threshold: s.restitution_threshold,
+            restitution_iterations: s.restitution_iterations,
+        };
+        // Below its threshold the solver runs on one worker: waking the others for every
+        // stage (a hundred a step) costs more than their share of a small colour.
+        let solve_spread = spread.for_stage(self.touching.len(), self.wide.solve);
+        let (caps, workers) =
+            self.solver
+                .run_substeps(&mut self.states, &self.motion, &step, solve_spread);
+        self.speed_caps += caps;
+        profile.solver_workers = workers;
+        profile.solve_ms = ms(t);
+
+        let t = Instant::now();
+        self.solver.store_impulses(
+            &mut self.contacts,
+            spread,
+            self.wide.prepare,
+            |contact, k, r| {
+                let mp = &mut contact.manifold.points[k];
+                mp.normal_impulse = r.normal_impulse;
+                mp.tangent_impulse = r.tangent_impulse;
+                mp.total_normal_impulse = r.total_normal_impulse;
+                mp.normal_velocity = r.relative_velocity;
+            },
+        );
+        profile.store_impulses_ms = ms(t);
+    }
+
+    /// Finalize (reads each awake body's substep deltas; writes its pose, sleep time and
+    /// its shapes' fat boxes): applies the deltas to the transform, resets them, and grows
+    /// the fat box of any shape that left it (those become the next step's moved proxies).
+    fn finalize(&mut self, dt: f32, spread: Spread<'_>) {
+        let sleep = self.settings.enable_sleep;
+        let threshold = self.settings.sleep_threshold;
+        let finalize_one = |sim: &mut BodySim, st: &mut BodyState, guarded: &mut bool, moves: bool| {
+            if !moves {
+                return;
+            }
+            // Box2D `b2FinalizeBodiesTask`: a body that moved more than half its thickness
+            // is fast, and its contacts are recomputed rather than recycled.
+            let max_motion = (st.dp.length() + st.dq.s.abs() * sim.extent)
+                .max((st.v.length() + st.w.abs() * sim.extent) * dt);
+            sim.fast = max_motion > 0.5 * sim.min_extent;
+            // Resting: slower than the threshold at every point of the body (Box2D's sleep
+            // velocity, the larger of |v| and the extent's speed of turning).
+            let sleep_velocity = st.v.length().max(sim.extent * st.w.abs());
+            sim.sleep_time = if sleep && sleep_velocity <= threshold {
+                sim.sleep_time + dt
+            } else {
+                0.0
+            };
+            let p = sim.xf.p + st.dp;
+            let q = st.dq.then_from(sim.xf.q).normalize();
+            st.dp = Vec2::ZERO;
+            st.dq = crate::math::Rot::IDENTITY;
+            // Numerical guard: a body whose state went non-finite (it cannot with finite
+            // input, but a guard costs four compares) keeps its last finite pose and stops,
+            // rather than spreading NaN through its contacts.
+            if p.is_finite()
+                && q.c.is_finite()
+                && q.s.is_finite()
+                && st.v.is_finite()
+                && st.w.is_finite()
+            {
+                sim.xf.p = p;
+                sim.xf.q = q;
+            } else {
+                st.v = Vec2::ZERO;
+                st.w = 0.0;
+                *guarded = true;
+            }
+        };
+        let motion = &self.motion;
+        type Bodies<'a> = (
+            &'a mut [BodySim],
+            &'a mut [BodyState],
+            &'a mut [bool],
+            &'a [crate::solver::BodyMotion],
+        );
+        let bodies = (
+            &mut self.sims[..],
+            &mut self.states[..],
+            &mut self.guarded[..],
+            &motion[..],
+        );
+        let finalize_part = |_: usize, (sims, states, guarded, motion): Bodies<'_>| {
+            for (((sim, st), guarded), m) in sims.iter_mut().zip(states).zip(guarded).zip(motion) {
+                finalize_one(sim, st, guarded, m.moves);
+            }
+        };
+        for_each_part(spread, bodies, self.wide.finalize, &finalize_part);
+        // Each shape of a body that moves: its box, swept along next step's motion.
+        let (sims, states, motion) = (&self.sims, &self.states, &self.motion);
+        let shapes = &self.shapes;
+        let shape_part = |_: usize,
+                          (shapes, records, fats, moved): (
+            &[Shape],
+            &[ShapeRecord],
+            &mut [Aabb],
+            &mut [bool],
+        )| {
+            for (((shape, r), fat), moved) in shapes.iter().zip(records).zip(fats).zip(moved) {
+                // A free slot's record names no body.
+                if r.body == super::NONE || !motion[r.body as usize].moves {
+                    continue;
+                }
+                let b = r.body as usize;
+                let tight = swept_aabb(shape, r, &sims[b], &states[b], dt);
+                if !fat.contains(&tight) {
+                    *fat = tight.grown(sims[b].margin);
+                    *moved = true;
+                }
+            }
+        };
+        for_each_part(
+            spread,
+            (
+                &shapes[..],
+                &self.shape_records[..],
+                &mut self.fat_aabbs[..],
+                &mut self.moved_flags[..],
+            ),
+            self.wide.finalize,
+            &shape_part,
+        );
+        for (i, &m) in self.moved_flags.iter().enumerate() {
+            if m {
+                self.moved.push(i as u32);
+                self.tree_dirty = true;
+            }
+        }
+        let mut guarded = 0;
+        for g in &mut self.guarded {
+            guarded += usize::from(std::mem::take(g));
+        }
+        self.guarded_last_step = guarded;
+        self.non_finite_bodies += guarded as u64;
+    }
+}
+
+/// Contact recycling (Box2D v3 `b2CollideTask`): when neither body is fast and the pair's
+/// relative pose barely changed since the manifold was computed, keep its normal, anchors,
+/// ids and impulses, and refresh only each point's separation from the motion since, as the
+/// substeps do. This skips most of the narrow phase in resting piles and removes jitter.
+fn recycle(c: &mut Contact, sa: &BodySim, sb: &BodySim) -> bool {
+    let Some(cache) = c.cache else {
+        return false;
+    };
+    if sa.fast || sb.fast {
+        return false;
+    }
+    let (xa, xb) = (sa.xf, sb.xf);
+    let relative = xa.inv_mul(xb);
+    let cos_a = xa.q.c * cache.q_a.c + xa.q.s * cache.q_a.s;
+    let cos_b = xb.q.c * cache.q_b.c + xb.q.s * cache.q_b.s;
+    let extent_a = if sa.kind == BodyKind::Static {
+        0.0
+    } else {
+        sa.extent
+    };
+    let extent_b = if sb.kind == BodyKind::Static {
+        0.0
+    } else {
+        sb.extent
+    };
+    let max_extent = extent_a.max(extent_b);
+    let distance = (relative.p - cache.relative.p).length();
+    let turn = relative.q.inv_mul(cache.relative.q);
+    // Non-touching pairs get a tighter tolerance so that a new touch is not missed.
+    let tolerance = if c.manifold.count > 0 {
+        RECYCLE_DISTANCE
+    } else {
+        RECYCLE_DISTANCE.min(SPECULATIVE_DISTANCE)
+    };
+    if cos_a.min(cos_b) <= RECYCLE_COS_ANGLE || distance + max_extent * turn.s.abs() >= tolerance {
+        return false;
+    }
+    let dq_a = cache.q_a.inv_mul(xa.q);
+    let dq_b = cache.q_b.inv_mul(xb.q);
+    let normal = c.manifold.normal;
+    let dc = xb.p - xa.p;
+    for p in &mut c.manifold.points[..c.manifold.count] {
+        let ra = dq_a.apply(p.anchor_a);
+        let rb = dq_b.apply(p.anchor_b);
+        p.separation = p.base_separation + crate::math::dot(dc + (rb - ra), normal);
+        p.persisted = true;
+    }
+    true
+}
+
+/// The shape's box, stretched along the motion expected in the next step and grown by the
+/// speculative distance: the broad phase then pairs what the speculative margin needs.
+pub(super) fn swept_aabb(shape: &Shape, r: &ShapeRecord, sim: &BodySim, st: &BodyState, dt: f32) -> Aabb {
+    let pose = if r.offset { sim.xf.mul(r.from_center) } else { sim.xf };
+    let tight = shape.aabb(pose);
+    let d = st.v * dt;
+    let swept = Aabb {
+        min: tight.min + d.min(Vec2::ZERO),
+        max: tight.max + d.max(Vec2::ZERO),
+    };
+    swept.grown(SPECULATIVE_DISTANCE + st.w.abs() * dt * sim.extent)
+}
+
+pub(super) fn ms(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}

@@ -1,0 +1,437 @@
+
+use super::*;
+use crate::scene::ShapeDef;
+
+fn ball_on_ground() -> World {
+    let mut w = World::new(StepSettings::default());
+    w.add_body(
+        &BodyDef::new(ShapeDef::Box {
+            half_extents: [5.0, 0.5],
+        })
+        .kind(BodyKind::Static),
+    )
+    .unwrap();
+    w.add_body(&BodyDef::new(ShapeDef::Circle { radius: 0.5 }).at(0.0, 1.0))
+        .unwrap();
+    w
+}
+
+#[test]
+fn kinetic_energy_is_half_m_v_squared_plus_half_i_w_squared_of_dynamic_bodies() {
+    let mut w = ball_on_ground();
+    w.set_velocity(1, Vec2::new(3.0, 4.0), 2.0);
+    // Disc of radius 0.5, density 1: m = π/4, I = m r²/2 = π/32; the static ground counts
+    // nothing. 1e-6 relative: f32 mass and inertia summed in f64.
+    let m = std::f64::consts::PI / 4.0;
+    let expected = 0.5 * m * 25.0 + 0.5 * (m * 0.125) * 4.0;
+    let e = w.kinetic_energy();
+    assert!((e / expected - 1.0).abs() < 1e-6, "{e} vs {expected}");
+}
+
+#[test]
+fn is_finite_sees_one_non_finite_velocity() {
+    // set_velocity refuses non-finite input, so the state is written directly.
+    let mut w = ball_on_ground();
+    assert!(w.is_finite());
+    w.states[1].v.x = f32::NAN;
+    assert!(!w.is_finite());
+    w.states[1].v.x = 0.0;
+    w.states[1].w = f32::INFINITY;
+    assert!(!w.is_finite());
+    w.states[1].w = 0.0;
+    w.sims[1].xf.p.y = f32::NEG_INFINITY;
+    assert!(!w.is_finite());
+}
+
+/// One ball in the air, alone: nothing it touches can carry a bad number back to it.
+fn lone_ball() -> World {
+    let mut w = World::new(StepSettings::default());
+    w.add_body(&BodyDef::new(ShapeDef::Circle { radius: 0.5 }).at(0.0, 10.0))
+        .unwrap();
+    w
+}
+
+#[test]
+fn the_guard_counts_every_body_it_stops_and_snapshots_keep_the_count() {
+    let mut w = lone_ball();
+    for _ in 0..3 {
+        w.step(1.0 / 60.0, 4);
+    }
+    assert_eq!(w.non_finite_bodies(), 0);
+    // set_velocity refuses non-finite input, so the state is written directly: what a
+    // broken upstream (a bad solve, a bad mass) would leave.
+    w.states[0].v = Vec2::new(f32::NAN, 1.0);
+    let before = w.body(0).position;
+    w.step(1.0 / 60.0, 4);
+    // The guard hid it: the state is finite again, the body kept its last finite pose.
+    assert!(w.is_finite());
+    assert_eq!(w.body(0).position, before);
+    assert_eq!(w.profile().non_finite, 1);
+    assert_eq!(w.non_finite_bodies(), 1);
+    // Later healthy steps forget it in the profile but not in the total.
+    for _ in 0..10 {
+        w.step(1.0 / 60.0, 4);
+    }
+    assert_eq!(w.profile().non_finite, 0);
+    assert_eq!(w.non_finite_bodies(), 1);
+    // Through JSON and back, the count survives, and keeps counting from there.
+    let text = serde_json::to_string(&w.snapshot()).unwrap();
+    let mut restored = World::from_snapshot(serde_json::from_str(&text).unwrap()).unwrap();
+    assert_eq!(restored.non_finite_bodies(), 1);
+    restored.states[0].w = f32::NAN;
+    restored.step(1.0 / 60.0, 4);
+    assert!(restored.is_finite());
+    assert_eq!(restored.non_finite_bodies(), 2);
+}
+
+#[test]
+fn a_snapshot_without_the_count_loads_as_zero() {
+    let mut value = serde_json::to_value(lone_ball().snapshot()).unwrap();
+    let fields = value.as_object_mut().unwrap();
+    assert!(fields.remove("non_finite_bodies").is_some());
+    let snap: WorldSnapshot = serde_json::from_value(value).unwrap();
+    assert_eq!(World::from_snapshot(snap).unwrap().non_finite_bodies(), 0);
+}
+
+#[test]
+fn step_refuses_a_subnormal_or_non_positive_dt() {
+    let mut w = lone_ball();
+    let hash = w.state_hash();
+    let tiny = f32::MIN_POSITIVE / 4.0;
+    assert!(tiny > 0.0 && !tiny.is_normal());
+    // A subnormal dt, a normal dt whose substep is subnormal, zero, negative, NaN,
+    // infinity, and no substeps: none steps.
+    for (dt, substeps) in [
+        (tiny, 1),
+        (f32::MIN_POSITIVE, 4),
+        (0.0, 4),
+        (-1.0 / 60.0, 4),
+        (f32::NAN, 4),
+        (f32::INFINITY, 4),
+        (1.0 / 60.0, 0),
+    ] {
+        assert!(!World::steppable(dt, substeps), "{dt} {substeps}");
+        w.step(dt, substeps);
+        assert_eq!(w.step_count(), 0, "{dt} {substeps}");
+        assert_eq!(w.state_hash(), hash, "{dt} {substeps}");
+    }
+    // The smallest dt it takes runs and stays finite.
+    assert!(World::steppable(f32::MIN_POSITIVE, 1));
+    w.step(f32::MIN_POSITIVE, 1);
+    assert_eq!(w.step_count(), 1);
+    assert!(w.is_finite());
+    assert_eq!(w.non_finite_bodies(), 0);
+}
+
+#[test]
+fn step_settings_validate_refuses_each_bad_knob() {
+    assert_eq!(StepSettings::default().validate(), Ok(()));
+    let refused = |change: fn(&mut StepSettings), field: &str, words: &[&str]| {
+        let mut s = StepSettings::default();
+        change(&mut s);
+        let e = s.validate().expect_err(field);
+        assert_eq!(e.field, field);
+        let text = e.to_string();
+        assert!(text.contains(&format!("`{field}`")), "{text}");
+        for w in words {
+            assert!(text.contains(w), "{text} lacks {w}");
+        }
+    };
+    refused(
+        |s| s.relax_iterations = 0,
+        "relax_iterations",
+        &["friction"],
+    );
+    refused(
+        |s| s.restitution_iterations = 0,
+        "restitution_iterations",
+        &["1 or more"],
+    );
+    refused(|s| s.contact_hertz = -1.0, "contact_hertz", &["-1", ">= 0"]);
+    refused(|s| s.contact_hertz = f32::NAN, "contact_hertz", &["NaN"]);
+    refused(
+        |s| s.contact_damping_ratio = -0.5,
+        "contact_damping_ratio",
+        &["-0.5"],
+    );
+    refused(
+        |s| s.contact_damping_ratio = f32::INFINITY,
+        "contact_damping_ratio",
+        &["inf"],
+    );
+    refused(|s| s.max_push_speed = -3.0, "max_push_speed", &["-3"]);
+    refused(|s| s.max_push_speed = f32::NAN, "max_push_speed", &["NaN"]);
+    refused(
+        |s| s.restitution_threshold = -1.0,
+        "restitution_threshold",
+        &["-1"],
+    );
+    refused(
+        |s| s.restitution_threshold = f32::INFINITY,
+        "restitution_threshold",
+        &["inf"],
+    );
+    refused(|s| s.max_linear_speed = -1.0, "max_linear_speed", &["> 0"]);
+    refused(|s| s.max_linear_speed = 0.0, "max_linear_speed", &["> 0"]);
+    refused(
+        |s| s.max_linear_speed = f32::INFINITY,
+        "max_linear_speed",
+        &["inf"],
+    );
+    refused(|s| s.gravity.y = f32::NAN, "gravity", &["finite"]);
+    // Zero is a usable value where it means "off": rigid contacts, no damping, no push-out,
+    // every approach bounces.
+    let zeros = StepSettings {
+        contact_hertz: 0.0,
+        contact_damping_ratio: 0.0,
+        max_push_speed: 0.0,
+        restitution_threshold: 0.0,
+        ..StepSettings::default()
+    };
+    assert_eq!(zeros.validate(), Ok(()));
+}
+
+#[test]
+fn a_snapshot_with_bad_settings_is_refused() {
+    let mut snap = ball_on_ground().snapshot();
+    snap.settings.relax_iterations = 0;
+    let e = World::from_snapshot(snap).err().expect("refused");
+    assert!(e.to_string().contains("relax_iterations"), "{e}");
+}
+
+#[test]
+fn a_body_whose_mass_or_inertia_f32_cannot_invert_is_refused() {
+    let mut w = ball_on_ground();
+    let circle = |r: f32| BodyDef::new(ShapeDef::Circle { radius: r });
+    // Radius 1e-20 m: mass π·1e-40 kg is subnormal, its inverse infinite.
+    let e = w.add_body(&circle(1e-20)).unwrap_err().to_string();
+    for word in [
+        "body 2",
+        "`density`",
+        "mass",
+        "raise the density",
+        "enlarge",
+    ] {
+        assert!(e.contains(word), "{e} lacks {word}");
+    }
+    // A subnormal density: the same.
+    let e = w
+        .add_body(&circle(1.0).density(1e-40))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("`density`") && e.contains("mass"), "{e}");
+    // A mass too large for f32.
+    let e = w
+        .add_body(&circle(1000.0).density(1e35))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("lower the density"), "{e}");
+    // Radius 1e-10 m: the mass (3e-20 kg) is fine, the inertia (1.6e-40) underflows.
+    let e = w.add_body(&circle(1e-10)).unwrap_err().to_string();
+    for word in ["body 2", "`shape`", "rotational inertia", "fixed_rotation"] {
+        assert!(e.contains(word), "{e} lacks {word}");
+    }
+    // A body that cannot rotate needs no inverse inertia, and one refused body leaves no
+    // trace: ids continue from 2.
+    assert_eq!(w.add_body(&circle(1e-10).fixed_rotation(true)), Ok(2));
+    // Static bodies have no mass to invert.
+    assert!(w.add_body(&circle(1e-20).kind(BodyKind::Static)).is_ok());
+    // From a scene, the index is the body's place in it.
+    let mut scene = SceneDef::new("tiny");
+    scene.push(circle(1.0));
+    scene.push(circle(1e-20));
+    let e = World::from_scene(&scene, &Limits::default())
+        .err()
+        .expect("refused")
+        .to_string();
+    assert!(e.starts_with("body 1: field `density`"), "{e}");
+}
+
+#[test]
+fn impulse_changes_velocity_by_inverse_mass() {
+    let mut w = ball_on_ground();
+    let m = w.mass(1);
+    // Disc of radius 0.5 at density 1: m = π/4.
+    assert!((m - std::f32::consts::FRAC_PI_4).abs() < 1e-6);
+    w.apply_linear_impulse(1, Vec2::new(2.0, 0.0), Vec2::new(0.0, 1.5));
+    let b = w.body(1);
+    assert!((b.linear_velocity.x - 2.0 / m).abs() < 1e-5);
+    // Off-centre by +0.5 in y: torque r × J = 0.5·0 − 0.5·2 = −1; w = −1 / (m r²/2).
+    assert!((b.angular_velocity + 1.0 / (0.5 * m * 0.25)).abs() < 1e-4);
+    // Static bodies ignore it.
+    w.apply_linear_impulse(0, Vec2::new(5.0, 0.0), Vec2::ZERO);
+    assert_eq!(w.body(0).linear_velocity, Vec2::ZERO);
+}
+
+#[test]
+fn body_at_picks_the_shape_under_the_point() {
+    let w = ball_on_ground();
+    assert_eq!(w.body_at(Vec2::new(0.1, 1.2)), Some(1));
+    assert_eq!(w.body_at(Vec2::new(4.0, 0.0)), Some(0));
+    assert_eq!(w.body_at(Vec2::new(0.0, 3.0)), None);
+}
+
+#[test]
+fn thread_count_changes_between_steps_keep_the_result() {
+    // A 30-row pyramid: 465 boxes, about 1,400 touching contacts, well above the 256 below
+    // which one worker solves alone, so every step here really is solved by the workers
+    // asked for (1 to 3, beyond the cores where there are fewer; checked each step).
+    let pyramid = || {
+        let mut w = World::new(StepSettings::default());
+        w.set_workers_beyond_cores(true);
+        // A 465-body pyramid is inline by default: split it anyway.
+        w.set_wide_thresholds(WideThresholds::ALWAYS);
+        let ground = BodyDef::new(ShapeDef::Box {
+            half_extents: [40.0, 0.5],
+        });
+        w.add_body(&ground.kind(BodyKind::Static)).unwrap();
+        for row in 0..30 {
+            for col in 0..(30 - row) {
+                let x = col as f32 + row as f32 * 0.5 - 15.0;
+                let unit = ShapeDef::Box {
+                    half_extents: [0.5, 0.5],
+                };
+                w.add_body(&BodyDef::new(unit).at(x, 1.0 + row as f32))
+                    .unwrap();
+            }
+        }
+        w
+    };
+    let run = |switch: bool| {
+        let mut w = pyramid();
+        w.set_thread_count(1);
+        for i in 0..30 {
+            let workers = if switch { 1 + i % 3 } else { 1 };
+            w.set_thread_count(workers);
+            w.step(1.0 / 60.0, 4);
+            assert!(w.profile().touching > 256);
+            assert_eq!(w.profile().solver_workers, workers, "step {i}");
+        }
+        w.state_hash()
+    };
+    assert_eq!(run(false), run(true));
+}
+
+/// An 8-row pyramid of boxes with 20 bouncy circles falling on it.
+fn pyramid_in_rain(settings: StepSettings) -> World {
+    let mut w = World::new(settings);
+    w.add_body(
+        &BodyDef::new(ShapeDef::Box {
+            half_extents: [20.0, 0.5],
+        })
+        .kind(BodyKind::Static),
+    )
+    .unwrap();
+    for row in 0..8 {
+        for col in 0..(8 - row) {
+            let x = col as f32 * 1.0 + row as f32 * 0.5 - 4.0;
+            w.add_body(
+                &BodyDef::new(ShapeDef::Box {
+                    half_extents: [0.5, 0.5],
+                })
+                .at(x, 1.0 + row as f32),
+            )
+            .unwrap();
+        }
+    }
+    for i in 0..20 {
+        let shape = ShapeDef::Circle { radius: 0.25 };
+        let body = BodyDef::new(shape)
+            .at(i as f32 * 0.4 - 4.0, 12.0)
+            .restitution(0.3);
+        w.add_body(&body).unwrap();
+    }
+    w
+}
+
+#[test]
+fn a_kept_colouring_is_the_one_a_fresh_colouring_gives() {
+    // One world keeps last step's colouring whenever the touching pairs repeat; the other
+    // colours from scratch every step. The colouring is a function of those pairs, so
+    // both must agree exactly, colour for colour and bit for bit.
+    let mut kept = pyramid_in_rain(StepSettings::default());
+    let mut fresh = pyramid_in_rain(StepSettings::default());
+    let mut reused = 0;
+    for _ in 0..240 {
+        fresh.solver.forget_coloring();
+        kept.step(1.0 / 60.0, 4);
+        fresh.step(1.0 / 60.0, 4);
+        assert!(fresh.solver.recolored);
+        reused += usize::from(!kept.solver.recolored);
+        assert_eq!(kept.contact_colors(), fresh.contact_colors());
+        assert_eq!(kept.state_hash(), fresh.state_hash());
+    }
+    // The rain bounces, rolls off and settles: most of the run has touching pairs that
+    // repeat, so the kept path was taken (its count is the test's reason to exist).
+    assert!(reused > 60, "colouring kept on {reused} of 240 steps");
+}
+
+#[test]
+fn simd_and_scalar_solvers_agree_bit_for_bit() {
+    // Both paths do the same per-lane operations in the same order, with no fused
+    // multiply-add, so the whole state must match exactly, not within a tolerance.
+    let run = |simd: bool, avx: bool| {
+        let mut w = pyramid_in_rain(StepSettings::default());
+        w.settings_mut().simd = simd;
+        w.solver.use_avx = avx;
+        for _ in 0..120 {
+            w.step(1.0 / 60.0, 4);
+        }
+        assert!(w.profile().touching > 50);
+        w.state_hash()
+    };
+    // The 8-lane kernels in AVX2 registers (where the CPU has AVX2; elsewhere both runs
+    // take the portable path) against the portable f32x8 kernels, and against scalar.
+    let portable = run(true, false);
+    assert_eq!(run(true, true), portable);
+    assert_eq!(run(false, false), portable);
+}
+
+#[test]
+fn a_restored_snapshot_continues_bit_for_bit() {
+    let mut w = ball_on_ground();
+    for i in 0..12 {
+        let body = BodyDef::new(ShapeDef::Box {
+            half_extents: [0.3, 0.2],
+        })
+        .at(i as f32 * 0.5 - 3.0, 2.0 + i as f32 * 0.3)
+        .angle(0.1 * i as f32);
+        w.add_body(&body).unwrap();
+    }
+    for _ in 0..45 {
+        w.step(1.0 / 60.0, 4);
+    }
+    // Through JSON: f32 values are written shortest-round-trip, so they read back exactly.
+    let text = serde_json::to_string(&w.snapshot()).unwrap();
+    let mut restored = World::from_snapshot(serde_json::from_str(&text).unwrap()).unwrap();
+    restored.set_thread_count(1);
+    for _ in 0..90 {
+        w.step(1.0 / 60.0, 4);
+        restored.step(1.0 / 60.0, 4);
+    }
+    assert!(w.profile().touching > 5);
+    assert_eq!(w.state_hash(), restored.state_hash());
+    assert_eq!(w.step_count(), restored.step_count());
+}
+
+#[test]
+fn a_corrupt_snapshot_is_refused() {
+    let mut snap = ball_on_ground().snapshot();
+    snap.states.pop();
+    assert!(World::from_snapshot(snap).is_err());
+}
+
+#[test]
+fn contact_colors_cover_the_touching_contacts() {
+    let mut w = ball_on_ground();
+    for _ in 0..30 {
+        w.step(1.0 / 60.0, 4);
+    }
+    let colors = w.contact_colors();
+    assert_eq!(colors.len(), w.profile().touching);
+    // A dynamic body against a static one goes to the top colours (Box2D's rule).
+    assert!(
+        colors.iter().all(|&(_, c)| (1..23).contains(&c)),
+        "{colors:?}"
+    );
+}
