@@ -83,7 +83,7 @@ fn run_with(
     let first_circle = scene
         .bodies
         .iter()
-        .position(|b| matches!(b.shape, ShapeDef::Circle { .. }))
+        .position(|b| matches!(b.shape, Some(ShapeDef::Circle { .. })))
         .unwrap_or(scene.bodies.len());
     let t0 = std::time::Instant::now();
     let mut w = world(&scene);

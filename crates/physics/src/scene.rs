@@ -52,6 +52,11 @@ fn default_density() -> f32 {
 fn default_friction() -> f32 {
     0.6
 }
+/// A field that is `Some` when present, written without RON's `Some(..)`.
+fn present<'de, D: serde::Deserializer<'de>, T: Deserialize<'de>>(d: D) -> Result<Option<T>, D::Error> {
+    T::deserialize(d).map(Some)
+}
+
 fn yes() -> bool {
     true
 }
@@ -227,8 +232,12 @@ pub struct BodyDef {
     /// Initial angular velocity (rad/s).
     #[serde(default)]
     pub angular_velocity: f32,
-    /// Collision shape (a body of one shape).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    /// Collision shape (a body of one shape). Written as the shape itself, not `Some(..)`.
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "present"
+    )]
     pub shape: Option<ShapeDef>,
     /// Several shapes fixed to the body, instead of `shape`.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]

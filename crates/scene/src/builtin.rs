@@ -5,13 +5,14 @@
 //! sizes, counts, spacing, friction, density, gravity and step settings, so that figures
 //! compare. Box2D runs at 60 Hz with 4 substeps in both its benchmark and its samples.
 //!
-//! tumble has one shape per body, so where Box2D puts several shapes on one static body (a
-//! ground made of segments, a container of four boxes) each shape becomes its own static body,
-//! and a segment becomes a thin box whose face lies on the segment (see [`segment`]).
+//! The scenes written before bodies could have several shapes give each of Box2D's ground
+//! shapes its own static body (same contacts, same hashes as before); the newer ones
+//! (`compounds`, `junkyard`) put them on one body as Box2D does. tumble has no segments yet,
+//! so a segment becomes a thin box whose face lies on the segment (see [`segment`]).
 
 use std::f32::consts::PI;
 
-use tumble_physics::{BodyDef, BodyKind, SceneDef, ShapeDef};
+use tumble_physics::{BodyDef, BodyKind, PartDef, SceneDef, ShapeDef};
 
 /// Menu order: a friendly default first, then the hard cases, then the big benchmarks.
 const NAMES: &[&str] = &[
@@ -34,6 +35,8 @@ const NAMES: &[&str] = &[
     "many_pyramids",
     "smash",
     "tumbler",
+    "compounds",
+    "junkyard",
 ];
 
 /// All built-in scene names, in menu order.
@@ -43,7 +46,7 @@ pub fn names() -> &'static [&'static str] {
 
 /// Builds the named built-in scene, or `None` if there is no such scene.
 pub fn build(name: &str) -> Option<SceneDef> {
-    let scene = match name {
+    let mut scene = match name {
         "falling_circles" => falling_circles(),
         "pyramid" => pyramid(),
         "vertical_stack" => vertical_stack(),
@@ -63,9 +66,33 @@ pub fn build(name: &str) -> Option<SceneDef> {
         "many_pyramids" => many_pyramids(),
         "smash" => smash(),
         "tumbler" => tumbler(),
+        "compounds" => compounds(),
+        "junkyard" => junkyard(),
         _ => return None,
     };
+    // Box2D's benchmark turns sleeping off in its pyramids and keeps it on in smash,
+    // compounds and junkyard. The hard cases measure a scene's motion to its end, which
+    // sleeping would stop: every built-in but those three runs awake, as it always did.
+    if !SLEEPING.contains(&name) {
+        scene.sleep = false;
+    }
     Some(scene)
+}
+
+/// The built-ins that sleep (as Box2D's benchmark builds them).
+const SLEEPING: &[&str] = &["smash", "compounds", "junkyard"];
+
+/// What a built-in does between steps (Box2D's benchmark `Step*` functions): the steps taken
+/// so far, and the world to change. Scenes without one return `None` from [`script`].
+pub type Script = fn(u64, &mut tumble_physics::World);
+
+/// The named built-in's per-step script, if it has one: the runner, `compare` and the viewer
+/// call it before every step.
+pub fn script(name: &str) -> Option<Script> {
+    match name {
+        "junkyard" => Some(junkyard_step),
+        _ => None,
+    }
 }
 
 /// A one- or two-sentence menu description of the named scene.
@@ -140,8 +167,16 @@ pub fn describe(name: &str) -> Option<&'static str> {
              Tests throughput and parallel scaling over many independent islands."
         }
         "smash" => {
-            "Benchmark: a heavy 8 m block at 40 m/s smashes into a 120 x 80 wall of 9600 small boxes, no gravity (Box2D's smash). \
-             Tests broad phase churn and contact creation under a violent impact."
+            "Benchmark: a heavy 8 m block at 40 m/s smashes into a 120 x 80 wall of 9600 small boxes that start asleep, no gravity (Box2D's smash). \
+             Tests waking, broad phase churn and contact creation under a violent impact."
+        }
+        "compounds" => {
+            "Benchmark: 3000 bodies, each of two triangles, pour into a 80 m box of 281 boxes on one static body (Box2D's compounds). \
+             Tests bodies of several shapes, and sleeping as the pile settles."
+        }
+        "junkyard" => {
+            "Benchmark: 8000 pentagons fall into a 160 m trough and a kinematic pusher sweeps them to and fro (Box2D's junkyard). \
+             Tests a kinematic body driven to a target each step, and waking."
         }
         "tumbler" => {
             "Benchmark: 2025 small boxes in a 20 m box (Box2D's tumbler). Unlike Box2D, whose container is \
@@ -772,7 +807,7 @@ fn many_pyramids() -> SceneDef {
 
 /// Box2D `CreateSmash`: no gravity; a 4 x 4 half-size box of density 8 at (-20, 0) moving at
 /// 40 m/s into a 120 x 80 grid of touching 0.2 half-size boxes starting at x = 30, centred on
-/// y = 0; 300 steps. (Box2D creates the grid asleep; tumble has no sleep.)
+/// y = 0; 300 steps. The grid starts asleep, as Box2D creates it: the block wakes what it hits.
 fn smash() -> SceneDef {
     let mut scene = SceneDef::new("smash");
     scene.steps = 300;
@@ -789,10 +824,121 @@ fn smash() -> SceneDef {
         for j in 0..rows {
             let x = i as f32 * d + 30.0;
             let y = (j as f32 - rows as f32 / 2.0) * d;
-            scene.push(BodyDef::new(rect(0.5 * d, 0.5 * d)).at(x, y));
+            scene.push(BodyDef::new(rect(0.5 * d, 0.5 * d)).at(x, y).awake(false));
         }
     }
     scene
+}
+
+/// A box of half extents `hx`, `hy` centred at (x, y) as a part of a body (Box2D's
+/// `b2MakeOffsetBox`).
+fn offset_box(hx: f32, hy: f32, x: f32, y: f32) -> PartDef {
+    PartDef::new(rect(hx, hy)).at(x, y, 0.0)
+}
+
+/// Box2D's benchmark container, one static body of boxes: a floor of `floor` boxes from
+/// x = -`half` and two walls of `wall` boxes at x = ±`half` (grid size 1 m).
+fn container(half: f32, floor: usize, wall: usize) -> Vec<PartDef> {
+    let mut parts = Vec::new();
+    let mut x = -half;
+    for _ in 0..floor {
+        parts.push(offset_box(0.55, 0.5, x, 0.0));
+        x += 1.0;
+    }
+    for side in [-half, half] {
+        let mut y = 1.0;
+        for _ in 0..wall {
+            parts.push(offset_box(0.5, 0.55, side, y));
+            y += 1.0;
+        }
+    }
+    parts
+}
+
+/// Box2D `CreateCompounds` (its samples' barrel benchmark, compound branch): a static
+/// container of 281 boxes (floor of 81, walls of 100) and a segment 80 m below (a thin box
+/// here), and 20 x 150 dynamic bodies of two triangles each (friction 0.5), alternating
+/// 0.25 m left and right; 1000 steps, sleeping on.
+fn compounds() -> SceneDef {
+    let mut scene = SceneDef::new("compounds");
+    scene.steps = 1000;
+    let mut ground = container(40.0, 81, 100);
+    // Box2D's segment from (-800, -80) to (800, -80), as a thin box whose top face is it.
+    ground.push(offset_box(800.0, SEGMENT_HALF_THICKNESS, 0.0, -80.0 - SEGMENT_HALF_THICKNESS));
+    scene.push(BodyDef::compound(ground).kind(BodyKind::Static));
+    let tri = |points: [[f32; 2]; 3]| {
+        PartDef::new(ShapeDef::Polygon {
+            vertices: points.to_vec(),
+        })
+    };
+    // Box2D's hulls of these points, counter-clockwise.
+    let left = tri([[-1.0, 0.0], [0.5, 1.0], [0.0, 2.0]]);
+    let right = tri([[1.0, 0.0], [0.0, 2.0], [-0.5, 1.0]]);
+    let (columns, rows) = (20, 150);
+    let (shift, extra_y) = (2.0f32, 0.25f32);
+    let mut side = 0.25f32;
+    let center_x = shift * columns as f32 / 2.0 - 1.0;
+    let center_y = 1.15 / 2.0;
+    let y_start = 5.0;
+    for i in 0..columns {
+        let x = i as f32 * shift - center_x;
+        for j in 0..rows {
+            let y = j as f32 * (shift + extra_y) + center_y + y_start;
+            let body = BodyDef::compound(vec![left.clone(), right.clone()])
+                .at(x + side, y)
+                .friction(0.5);
+            side = -side;
+            scene.push(body);
+        }
+    }
+    scene
+}
+
+/// Box2D `CreateJunkyard`: a static trough of 261 boxes (floor of 161, walls of 50),
+/// 200 x 40 pentagons of radius 0.25 (Fibonacci-sphere points) from y = 15, and a kinematic
+/// 4 x 8 m pusher whose target each step is x = 60 sin(0.2 t) ([`junkyard_step`]); 1000
+/// steps, sleeping on. The pusher is the last body.
+fn junkyard() -> SceneDef {
+    let mut scene = SceneDef::new("junkyard");
+    scene.steps = 1000;
+    scene.push(BodyDef::compound(container(80.0, 161, 50)).kind(BodyKind::Static));
+    let radius = 0.25f32;
+    let phi = PI * (5.0f32.sqrt() - 1.0);
+    let mut points: Vec<[f32; 2]> = (0..5)
+        .map(|i| {
+            let theta = phi * i as f32;
+            [radius * theta.cos(), radius * theta.sin()]
+        })
+        .collect();
+    // Box2D's hull: counter-clockwise around the centre.
+    points.sort_by(|a, b| a[1].atan2(a[0]).total_cmp(&b[1].atan2(b[0])));
+    let pentagon = ShapeDef::Polygon { vertices: points };
+    let (columns, rows) = (200, 40);
+    let mut side = -0.1f32;
+    for i in 0..columns {
+        let x = 1.5 * (2.0 * i as f32 - columns as f32) * radius;
+        for j in 0..rows {
+            let y = 4.0 * j as f32 * radius + 15.0;
+            // A polygon part keeps its vertices where they are: the body is at (x, y).
+            scene.push(BodyDef::compound(vec![PartDef::new(pentagon.clone())]).at(x + side, y));
+            side = -side;
+        }
+    }
+    scene.push(
+        BodyDef::compound(vec![offset_box(2.0, 4.0, 0.0, 4.0)]).kind(BodyKind::Kinematic),
+    );
+    scene
+}
+
+/// Box2D `StepJunkyard`: the pusher's target is x = 60 sin(0.2 t), reached in one step.
+fn junkyard_step(steps: u64, world: &mut tumble_physics::World) {
+    let dt = 1.0 / 60.0;
+    let t = dt * steps as f32;
+    let x = 60.0 * (0.2 * t).sin();
+    if let Some(pusher) = world.body_id(world.body_count() - 1) {
+        // The pusher exists in a world built from this scene; a refusal is impossible.
+        let _ = world.set_target_transform(pusher, tumble_physics::Vec2::new(x, 0.0), 0.0, dt);
+    }
 }
 
 /// Box2D `CreateTumbler`: a 45 x 45 grid of 0.125 half-size boxes, 0.4 m apart, inside a
@@ -838,7 +984,7 @@ mod tests {
 
     #[test]
     fn every_name_builds_describes_and_validates() {
-        assert_eq!(names().len(), 19);
+        assert_eq!(names().len(), 21);
         for &name in names() {
             let scene = build(name).unwrap_or_else(|| panic!("{name} does not build"));
             assert_eq!(scene.name, name);
@@ -903,7 +1049,7 @@ mod tests {
     fn polygons_are_convex_ccw_and_small() {
         for &name in names() {
             for (index, body) in build(name).unwrap().bodies.iter().enumerate() {
-                let ShapeDef::Polygon { vertices } = &body.shape else {
+                let Some(ShapeDef::Polygon { vertices }) = &body.shape else {
                     continue;
                 };
                 let n = vertices.len();
@@ -943,7 +1089,7 @@ mod tests {
         // The keystone's lower corners are the top corners of the highest blocks of each side.
         let scene = build("arch").unwrap();
         let world = |body: &BodyDef| -> Vec<[f32; 2]> {
-            let ShapeDef::Polygon { vertices } = &body.shape else {
+            let Some(ShapeDef::Polygon { vertices }) = &body.shape else {
                 panic!("arch block is not a polygon")
             };
             vertices
@@ -977,9 +1123,9 @@ mod tests {
         assert_eq!(wall.position, [10.0 + SEGMENT_HALF_THICKNESS, 10.0]);
         assert_eq!(
             wall.shape,
-            ShapeDef::Box {
+            Some(ShapeDef::Box {
                 half_extents: [SEGMENT_HALF_THICKNESS, 10.0]
-            }
+            })
         );
     }
 

@@ -682,8 +682,12 @@ mod tests {
             ron("(gravity: (0, 1))", "nobodies.ron"),
             &["nobodies.ron:", "bodies"],
         );
+        // No shape: refused by validation, naming the body and both ways to give one.
         let text = "{\"bodies\": [{\"position\": [1, 2]}]}";
-        expect_err(json(text, "noshape.json"), &["noshape.json:1:", "shape"]);
+        expect_err(
+            json(text, "noshape.json"),
+            &["noshape.json", "body 0", "`shape`", "`shapes`"],
+        );
     }
 
     #[test]
@@ -1170,7 +1174,7 @@ mod tests {
         )
         .unwrap();
         assert!(
-            matches!(&m.bodies[0].shape, tumble_physics::ShapeDef::Polygon { vertices } if vertices.len() == 3)
+            matches!(&m.bodies[0].shape, Some(tumble_physics::ShapeDef::Polygon { vertices }) if vertices.len() == 3)
         );
     }
 }
