@@ -1,0 +1,386 @@
+//! The engine core at scene level (issue 15): bodies of several shapes, filters, ids and
+//! run-time changes, islands and sleeping. Every test calls `World::validate` after each
+//! change and step, so an invariant broken between the stores fails where it breaks.
+
+use glam::Vec2;
+use tumble_physics::{
+    BodyDef, BodyId, BodyKind, Filter, Limits, PartDef, SceneDef, ShapeDef, StepSettings,
+    WideThresholds, World, WorldError,
+};
+
+const DT: f32 = 1.0 / 60.0;
+
+fn step_checked(w: &mut World, steps: usize) {
+    for _ in 0..steps {
+        w.step(DT, 4);
+        if let Err(e) = w.validate() {
+            panic!("after step {}: {e}", w.step_count());
+        }
+    }
+    assert_eq!(w.non_finite_bodies(), 0);
+}
+
+fn ground() -> BodyDef {
+    BodyDef::new(ShapeDef::Box {
+        half_extents: [20.0, 0.5],
+    })
+    .kind(BodyKind::Static)
+    .at(0.0, -0.5)
+}
+
+fn disc(r: f32) -> PartDef {
+    PartDef::new(ShapeDef::Circle { radius: r })
+}
+
+/// A dumbbell: two discs of radius 0.25 at x = ±1 in the body's frame, its origin at `x, y`.
+fn dumbbell(x: f32, y: f32) -> BodyDef {
+    BodyDef::compound(vec![disc(0.25).at(-1.0, 0.0, 0.0), disc(0.25).at(1.0, 0.0, 0.0)]).at(x, y)
+}
+
+#[test]
+fn a_body_of_two_shapes_rests_on_both_and_has_their_mass() {
+    let mut scene = SceneDef::new("dumbbell");
+    scene.push(ground());
+    scene.push(dumbbell(0.0, 2.0));
+    let mut w = World::from_scene(&scene, &Limits::default()).unwrap();
+    // Mass: two discs of π·0.25² at density 1 (f32 sums: 1e-6 relative).
+    let m = 2.0 * std::f32::consts::PI * 0.0625;
+    assert!((w.mass(1) / m - 1.0).abs() < 1e-6, "{}", w.mass(1));
+    // Parallel axis: 2·(m₁r²/2 + m₁·1²).
+    let i = 2.0 * (0.5 * (m / 2.0) * 0.0625 + m / 2.0);
+    assert!((w.inertia(1) / i - 1.0).abs() < 1e-5, "{}", w.inertia(1));
+    w.settings_mut().enable_sleep = false;
+    step_checked(&mut w, 180);
+    let b = w.body(1);
+    // Both discs rest on the ground: the centre 0.25 m up (within the contact's soft
+    // overlap, a slop of 5 mm), level, and the frame's origin where the centre is.
+    assert!((b.position.y - 0.25).abs() < 0.005, "{:?}", b.position);
+    assert!(b.angle.abs() < 1e-3, "{}", b.angle);
+    assert!((b.origin - b.position).length() < 1e-6);
+    // Two contacts, one per disc.
+    let touching = w.contacts().filter(|c| c.manifold.count > 0).count();
+    assert_eq!(touching, 2);
+}
+
+#[test]
+fn an_off_centre_part_moves_the_centre_of_mass_and_the_body_turns_about_it() {
+    // A big disc and a small one off to the side: the centre is between them, nearer the big
+    // one; the frame's origin stays where the scene put it until the body moves.
+    let body = BodyDef::compound(vec![disc(0.5), disc(0.25).at(1.0, 0.0, 0.0)]).at(3.0, 5.0);
+    let mut scene = SceneDef::new("lopsided");
+    scene.gravity = [0.0, 0.0];
+    scene.push(body.spin(1.0));
+    let mut w = World::from_scene(&scene, &Limits::default()).unwrap();
+    let (m1, m2) = (0.25f32, 0.0625f32);
+    let cx = m2 / (m1 + m2);
+    assert!((w.local_center(0).x - cx).abs() < 1e-6);
+    assert_eq!(w.body(0).origin, Vec2::new(3.0, 5.0));
+    // Spinning freely, the centre stays put and the origin circles it at radius cx.
+    step_checked(&mut w, 90);
+    let b = w.body(0);
+    assert!((b.position - Vec2::new(3.0 + cx, 5.0)).length() < 1e-5);
+    assert!(((b.origin - b.position).length() - cx).abs() < 1e-5);
+}
+
+#[test]
+fn filters_decide_which_shapes_touch() {
+    // Box2D's rule: categories against masks, overridden by a shared non-zero group.
+    let a = Filter {
+        category: 0b01,
+        mask: 0b01,
+        group: 0,
+    };
+    let b = Filter {
+        category: 0b10,
+        mask: u64::MAX,
+        group: 0,
+    };
+    assert!(!a.should_collide(&b) && !b.should_collide(&a));
+    let never = |f: Filter| Filter { group: -3, ..f };
+    assert!(!never(Filter::default()).should_collide(&never(Filter::default())));
+    let always = |f: Filter| Filter { group: 2, ..f };
+    assert!(always(a).should_collide(&always(b)));
+    // In a world: a ball whose mask leaves out the ground's category falls through it; a
+    // ball of the ground's category rests on it.
+    let mut scene = SceneDef::new("filters");
+    scene.sleep = false;
+    scene.push(ground().filter(Filter {
+        category: 0b100,
+        ..Filter::default()
+    }));
+    let ball = |x: f32| BodyDef::new(ShapeDef::Circle { radius: 0.5 }).at(x, 1.0);
+    scene.push(ball(-2.0).filter(Filter {
+        mask: !0b100,
+        ..Filter::default()
+    }));
+    scene.push(ball(2.0));
+    let mut w = World::from_scene(&scene, &Limits::default()).unwrap();
+    step_checked(&mut w, 120);
+    assert!(w.body(1).position.y < -5.0, "{:?}", w.body(1).position);
+    assert!((w.body(2).position.y - 0.5).abs() < 0.01, "{:?}", w.body(2).position);
+}
+
+#[test]
+fn shapes_of_one_body_never_touch() {
+    // Two overlapping parts of one body: no contact between them, so it just falls.
+    let body = BodyDef::compound(vec![disc(0.5), disc(0.5).at(0.3, 0.0, 0.0)]).at(0.0, 10.0);
+    let mut w = World::new(StepSettings::default());
+    w.create_body(&body).unwrap();
+    step_checked(&mut w, 30);
+    assert_eq!(w.contact_count(), 0);
+    let v = w.body(0).linear_velocity;
+    assert!((v.y + 10.0 * 30.0 * DT).abs() < 1e-3, "{v:?}");
+}
+
+/// A 20-row pyramid of unit boxes on the ground, sleeping on.
+fn pyramid(rows: usize) -> World {
+    let mut w = World::new(StepSettings::default());
+    w.create_body(&ground()).unwrap();
+    for row in 0..rows {
+        for col in 0..rows - row {
+            let x = col as f32 + 0.5 * row as f32 - 0.5 * rows as f32;
+            let b = BodyDef::new(ShapeDef::Box {
+                half_extents: [0.5, 0.5],
+            })
+            .at(x, 0.5 + row as f32);
+            w.create_body(&b).unwrap();
+        }
+    }
+    w
+}
+
+#[test]
+fn a_resting_pyramid_falls_asleep_as_one_island_and_then_costs_nothing() {
+    let mut w = pyramid(20);
+    let bodies = w.live_body_count() - 1;
+    step_checked(&mut w, 1);
+    // Touching contacts join every box into one island.
+    assert_eq!(w.island_counts().0, 1);
+    let mut asleep_at = None;
+    for s in 0..600 {
+        step_checked(&mut w, 1);
+        if w.awake_body_count() == 0 {
+            asleep_at = Some(s);
+            break;
+        }
+    }
+    // Box2D's time to sleep is 0.5 s (30 steps) once every box rests.
+    let asleep_at = asleep_at.expect("the pyramid never fell asleep");
+    assert!(asleep_at >= 29, "asleep after {asleep_at} steps");
+    assert_eq!(w.island_counts(), (1, 0));
+    let hash = w.state_hash();
+    step_checked(&mut w, 60);
+    // Asleep: nothing moves, nothing is solved, nothing is collided or moved in the tree.
+    assert_eq!(w.state_hash(), hash);
+    let p = w.profile();
+    assert_eq!((p.touching, p.moved, p.recycled), (0, 0, 0));
+    assert!(w.contact_count() >= bodies, "contacts are kept while asleep");
+}
+
+#[test]
+fn a_ball_dropped_on_a_sleeping_pyramid_wakes_it() {
+    let mut w = pyramid(10);
+    step_checked(&mut w, 240);
+    assert_eq!(w.awake_body_count(), 0);
+    let ball = w
+        .create_body(&BodyDef::new(ShapeDef::Circle { radius: 0.5 }).at(0.0, 14.0))
+        .unwrap();
+    step_checked(&mut w, 1);
+    // The new ball is awake; the pyramid still sleeps until the ball touches it.
+    assert_eq!(w.awake_body_count(), 1);
+    assert!(w.get(ball).unwrap().awake);
+    // It lands after about 1.5 s; the pyramid wakes (and may settle and sleep again).
+    let mut most = 0;
+    for _ in 0..150 {
+        step_checked(&mut w, 1);
+        most = most.max(w.awake_body_count());
+    }
+    assert_eq!(most, w.live_body_count() - 1, "only {most} bodies woke");
+}
+
+#[test]
+fn ids_are_refused_once_their_body_is_gone() {
+    let mut w = pyramid(3);
+    let top = w.body_id(w.body_count() - 1).unwrap();
+    step_checked(&mut w, 10);
+    w.destroy_body(top).unwrap();
+    w.validate().unwrap();
+    assert_eq!(w.get(top), Err(WorldError::NoBody(top)));
+    assert_eq!(w.destroy_body(top), Err(WorldError::NoBody(top)));
+    // The next body takes the slot under a new generation: the old id still names nothing.
+    let new = w
+        .create_body(&BodyDef::new(ShapeDef::Circle { radius: 0.2 }).at(0.0, 8.0))
+        .unwrap();
+    assert_eq!(new.index, top.index);
+    assert_ne!(new.generation, top.generation);
+    assert!(w.get(top).is_err() && w.get(new).is_ok());
+    step_checked(&mut w, 60);
+}
+
+#[test]
+fn destroying_the_ground_wakes_what_rests_on_it_and_it_falls() {
+    let mut w = pyramid(4);
+    step_checked(&mut w, 240);
+    assert_eq!(w.awake_body_count(), 0);
+    w.destroy_body(BodyId::scene(0)).unwrap();
+    w.validate().unwrap();
+    assert_eq!(w.awake_body_count(), w.live_body_count());
+    step_checked(&mut w, 60);
+    assert!(w.body(1).position.y < -3.0, "{:?}", w.body(1).position);
+}
+
+#[test]
+fn run_time_changes_keep_every_store_consistent() {
+    let mut w = pyramid(5);
+    step_checked(&mut w, 30);
+    let id = |w: &World, i: usize| w.body_id(i).unwrap();
+    // A shape added to a box: it gets heavier and its contacts' masses follow.
+    let b = id(&w, 3);
+    let m0 = w.mass(3);
+    let s = w
+        .create_shape(b, &disc(0.3).at(0.0, 0.6, 0.0))
+        .unwrap();
+    w.validate().unwrap();
+    assert!(w.mass(3) > m0);
+    step_checked(&mut w, 10);
+    w.destroy_shape(s).unwrap();
+    w.validate().unwrap();
+    assert_eq!(w.mass(3), m0);
+    assert!(w.destroy_shape(s).is_err());
+    // The last shape of a dynamic body cannot go.
+    let only = w.body_shapes(3).next().unwrap().id;
+    assert!(w.destroy_shape(only).is_err());
+    // Kinds: a box made static, one made kinematic and moved, one teleported.
+    w.set_kind(id(&w, 1), BodyKind::Static).unwrap();
+    w.validate().unwrap();
+    w.set_kind(id(&w, 2), BodyKind::Kinematic).unwrap();
+    w.set_body_velocity(id(&w, 2), Vec2::new(0.5, 0.0), 0.0).unwrap();
+    w.validate().unwrap();
+    w.set_transform(id(&w, 4), Vec2::new(0.0, 9.0), 0.3).unwrap();
+    w.validate().unwrap();
+    step_checked(&mut w, 60);
+    // And back to dynamic.
+    w.set_kind(id(&w, 1), BodyKind::Dynamic).unwrap();
+    w.set_kind(id(&w, 2), BodyKind::Dynamic).unwrap();
+    w.validate().unwrap();
+    step_checked(&mut w, 240);
+    // Bad input is refused without a change.
+    let hash = w.state_hash();
+    assert!(w.set_transform(id(&w, 4), Vec2::new(f32::NAN, 0.0), 0.0).is_err());
+    assert!(w.set_body_velocity(id(&w, 4), Vec2::INFINITY, 0.0).is_err());
+    assert!(w
+        .create_body(&BodyDef::new(ShapeDef::Circle { radius: -1.0 }))
+        .is_err());
+    assert_eq!(w.state_hash(), hash);
+}
+
+/// Builds a scene, runs it on `threads` with every stage split, and returns its hash, after
+/// checking the stores after every step.
+fn run_split(scene: &SceneDef, threads: usize, steps: usize) -> u64 {
+    let mut w = World::from_scene(scene, &Limits::default()).unwrap();
+    w.set_workers_beyond_cores(true);
+    w.set_wide_thresholds(WideThresholds::ALWAYS);
+    w.set_thread_count(threads);
+    let script = tumble_scene::builtin::script(&scene.name);
+    for _ in 0..steps {
+        if let Some(script) = script {
+            script(w.step_count(), &mut w);
+        }
+        w.step(scene.dt, scene.substeps);
+    }
+    w.validate().unwrap();
+    assert_eq!(w.non_finite_bodies(), 0);
+    w.state_hash()
+}
+
+#[test]
+fn sleeping_and_waking_are_the_same_on_any_thread_count() {
+    // A small smash: a block into a wall of boxes that start asleep, waking as it is hit.
+    let mut scene = SceneDef::new("small_smash");
+    scene.gravity = [0.0, 0.0];
+    scene.push(
+        BodyDef::new(ShapeDef::Box {
+            half_extents: [1.0, 1.0],
+        })
+        .at(-5.0, 0.0)
+        .velocity(20.0, 0.0)
+        .density(8.0),
+    );
+    for i in 0..20 {
+        for j in 0..20 {
+            let b = BodyDef::new(ShapeDef::Box {
+                half_extents: [0.2, 0.2],
+            })
+            .at(i as f32 * 0.4, (j as f32 - 10.0) * 0.4)
+            .awake(false);
+            scene.push(b);
+        }
+    }
+    let one = run_split(&scene, 1, 150);
+    assert_eq!(run_split(&scene, 2, 150), one);
+    assert_eq!(run_split(&scene, 3, 150), one);
+    // Compound bodies: a few dozen dumbbells piling up and falling asleep.
+    let mut pile = SceneDef::new("dumbbells");
+    pile.push(ground());
+    for k in 0..40 {
+        pile.push(dumbbell((k % 5) as f32 * 2.5 - 5.0, 1.0 + (k / 5) as f32 * 0.8).spin(0.3));
+    }
+    let one = run_split(&pile, 1, 300);
+    assert_eq!(run_split(&pile, 2, 300), one);
+    assert_eq!(run_split(&pile, 4, 300), one);
+}
+
+#[test]
+fn a_snapshot_taken_while_islands_sleep_and_wake_continues_bit_for_bit() {
+    let mut w = pyramid(6);
+    step_checked(&mut w, 200);
+    assert_eq!(w.awake_body_count(), 0);
+    w.create_body(&BodyDef::new(ShapeDef::Circle { radius: 0.4 }).at(0.3, 12.0))
+        .unwrap();
+    step_checked(&mut w, 40);
+    let text = serde_json_snapshot(&w);
+    let mut restored = World::from_snapshot(serde_json_restore(&text)).unwrap();
+    restored.validate().unwrap();
+    for _ in 0..200 {
+        w.step(DT, 4);
+        restored.step(DT, 4);
+    }
+    assert_eq!(w.state_hash(), restored.state_hash());
+    assert_eq!(w.awake_body_count(), restored.awake_body_count());
+    assert_eq!(w.island_counts(), restored.island_counts());
+}
+
+fn serde_json_snapshot(w: &World) -> String {
+    serde_json::to_string(&w.snapshot()).unwrap()
+}
+
+fn serde_json_restore(text: &str) -> tumble_physics::WorldSnapshot {
+    serde_json::from_str(text).unwrap()
+}
+
+#[test]
+fn the_benchmark_scenes_of_several_shapes_load_and_stay_consistent() {
+    for name in ["compounds", "junkyard", "smash"] {
+        let scene = tumble_scene::builtin::build(name).unwrap();
+        let mut w = World::from_scene(&scene, &Limits::default()).unwrap();
+        w.validate().unwrap();
+        let script = tumble_scene::builtin::script(name);
+        for _ in 0..20 {
+            if let Some(script) = script {
+                script(w.step_count(), &mut w);
+            }
+            w.step(scene.dt, scene.substeps);
+        }
+        w.validate().unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(w.non_finite_bodies(), 0, "{name}");
+    }
+    // smash's grid starts asleep: only the block is awake.
+    let smash = tumble_scene::builtin::build("smash").unwrap();
+    let w = World::from_scene(&smash, &Limits::default()).unwrap();
+    assert_eq!(w.awake_body_count(), 1);
+    // compounds: 3000 bodies of two shapes and one static body of 282.
+    let compounds = tumble_scene::builtin::build("compounds").unwrap();
+    let w = World::from_scene(&compounds, &Limits::default()).unwrap();
+    assert_eq!(w.live_body_count(), 3001);
+    assert_eq!(w.shapes().count(), 6000 + 282);
+}
