@@ -68,6 +68,12 @@ struct Report {
     /// Bodies the engine's NaN guard had to stop over the whole run (CONTRACT.md section 6):
     /// 0 in a healthy run.
     non_finite_bodies: u64,
+    /// Joints in the world (CONTRACT.md section 6; tumble has none yet).
+    joints: usize,
+    /// Bodies awake after the last step.
+    awake_bodies: usize,
+    /// Islands after the last step, and of those the awake ones.
+    islands: [usize; 2],
 }
 
 /// One body after the last step. serde_json writes each f32 in the shortest form that reads
@@ -78,6 +84,8 @@ struct BodyState {
     angle: f32,
     linear_velocity: [f32; 2],
     angular_velocity: f32,
+    /// CONTRACT.md section 6.
+    awake: bool,
 }
 
 /// `step_ms_mean` first, then `<stage>_ms_mean` per named stage in pipeline order. A map of our
@@ -140,8 +148,14 @@ pub fn run(args: &RunArgs) -> Result<()> {
         indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} steps, eta {eta}")
             .expect("a valid template"),
     );
+    // A built-in that moves things between steps (junkyard's pusher) does so here too.
+    let is_file = std::path::Path::new(&args.scene).exists();
+    let script = tumble_scene::builtin::script(&args.scene).filter(|_| !generated && !is_file);
     for _ in 0..steps {
         bar.inc(1);
+        if let Some(script) = script {
+            script(world.step_count(), &mut world);
+        }
         world.step(scene.dt, scene.substeps);
         let profile = world.profile();
         step_ms += profile.step_ms;
@@ -168,14 +182,18 @@ pub fn run(args: &RunArgs) -> Result<()> {
             .map(|&(name, total)| (format!("{name}_ms_mean"), mean(total))),
     );
 
+    // A scene's bodies keep their slots (nothing is destroyed in a run). The position is
+    // the body frame's origin: for a body of one shape its centre of mass, for a body of
+    // several where the scene placed its frame (CONTRACT.md section 5).
     let bodies = (0..world.body_count())
         .map(|i| {
             let b = world.body(i);
             BodyState {
-                position: [b.position.x, b.position.y],
+                position: [b.origin.x, b.origin.y],
                 angle: b.angle,
                 linear_velocity: [b.linear_velocity.x, b.linear_velocity.y],
                 angular_velocity: b.angular_velocity,
+                awake: b.awake,
             }
         })
         .collect();
@@ -191,6 +209,12 @@ pub fn run(args: &RunArgs) -> Result<()> {
         profile: Profile(profile),
         contacts: world.contact_count(),
         non_finite_bodies: world.non_finite_bodies(),
+        joints: 0,
+        awake_bodies: world.awake_body_count(),
+        islands: {
+            let (all, awake) = world.island_counts();
+            [all, awake]
+        },
     };
     write_report(&report, args.out.as_ref())
 }
@@ -234,7 +258,10 @@ fn write_json(w: impl Write, report: &Report) -> std::io::Result<()> {
     }
     writeln!(w, "\n  }},")?;
     writeln!(w, "  \"contacts\": {},", report.contacts)?;
-    writeln!(w, "  \"non_finite_bodies\": {}", report.non_finite_bodies)?;
+    writeln!(w, "  \"non_finite_bodies\": {},", report.non_finite_bodies)?;
+    writeln!(w, "  \"joints\": {},", report.joints)?;
+    writeln!(w, "  \"awake_bodies\": {},", report.awake_bodies)?;
+    writeln!(w, "  \"islands\": {:?}", report.islands)?;
     writeln!(w, "}}")?;
     w.flush()
 }
