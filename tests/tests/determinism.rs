@@ -262,7 +262,8 @@ fn run_workers_with(scene: &SceneDef, steps: u32, workers: usize, strict: bool) 
         assert!(
             !strict || p.solver_workers == workers,
             "{}: step {step} solved on {} workers, not {workers}",
-            scene.name, p.solver_workers
+            scene.name,
+            p.solver_workers
         );
         overflow = overflow.max(p.overflow);
     }

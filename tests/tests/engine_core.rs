@@ -34,7 +34,11 @@ fn disc(r: f32) -> PartDef {
 
 /// A dumbbell: two discs of radius 0.25 at x = ±1 in the body's frame, its origin at `x, y`.
 fn dumbbell(x: f32, y: f32) -> BodyDef {
-    BodyDef::compound(vec![disc(0.25).at(-1.0, 0.0, 0.0), disc(0.25).at(1.0, 0.0, 0.0)]).at(x, y)
+    BodyDef::compound(vec![
+        disc(0.25).at(-1.0, 0.0, 0.0),
+        disc(0.25).at(1.0, 0.0, 0.0),
+    ])
+    .at(x, y)
 }
 
 #[test]
@@ -117,7 +121,11 @@ fn filters_decide_which_shapes_touch() {
     let mut w = World::from_scene(&scene, &Limits::default()).unwrap();
     step_checked(&mut w, 120);
     assert!(w.body(1).position.y < -5.0, "{:?}", w.body(1).position);
-    assert!((w.body(2).position.y - 0.5).abs() < 0.01, "{:?}", w.body(2).position);
+    assert!(
+        (w.body(2).position.y - 0.5).abs() < 0.01,
+        "{:?}",
+        w.body(2).position
+    );
 }
 
 #[test]
@@ -174,7 +182,10 @@ fn a_resting_pyramid_falls_asleep_as_one_island_and_then_costs_nothing() {
     assert_eq!(w.state_hash(), hash);
     let p = w.profile();
     assert_eq!((p.touching, p.moved, p.recycled), (0, 0, 0));
-    assert!(w.contact_count() >= bodies, "contacts are kept while asleep");
+    assert!(
+        w.contact_count() >= bodies,
+        "contacts are kept while asleep"
+    );
 }
 
 #[test]
@@ -237,9 +248,7 @@ fn run_time_changes_keep_every_store_consistent() {
     // A shape added to a box: it gets heavier and its contacts' masses follow.
     let b = id(&w, 3);
     let m0 = w.mass(3);
-    let s = w
-        .create_shape(b, &disc(0.3).at(0.0, 0.6, 0.0))
-        .unwrap();
+    let s = w.create_shape(b, &disc(0.3).at(0.0, 0.6, 0.0)).unwrap();
     w.validate().unwrap();
     assert!(w.mass(3) > m0);
     step_checked(&mut w, 10);
@@ -254,9 +263,11 @@ fn run_time_changes_keep_every_store_consistent() {
     w.set_kind(id(&w, 1), BodyKind::Static).unwrap();
     w.validate().unwrap();
     w.set_kind(id(&w, 2), BodyKind::Kinematic).unwrap();
-    w.set_body_velocity(id(&w, 2), Vec2::new(0.5, 0.0), 0.0).unwrap();
+    w.set_body_velocity(id(&w, 2), Vec2::new(0.5, 0.0), 0.0)
+        .unwrap();
     w.validate().unwrap();
-    w.set_transform(id(&w, 4), Vec2::new(0.0, 9.0), 0.3).unwrap();
+    w.set_transform(id(&w, 4), Vec2::new(0.0, 9.0), 0.3)
+        .unwrap();
     w.validate().unwrap();
     step_checked(&mut w, 60);
     // And back to dynamic.
@@ -266,11 +277,15 @@ fn run_time_changes_keep_every_store_consistent() {
     step_checked(&mut w, 240);
     // Bad input is refused without a change.
     let hash = w.state_hash();
-    assert!(w.set_transform(id(&w, 4), Vec2::new(f32::NAN, 0.0), 0.0).is_err());
+    assert!(
+        w.set_transform(id(&w, 4), Vec2::new(f32::NAN, 0.0), 0.0)
+            .is_err()
+    );
     assert!(w.set_body_velocity(id(&w, 4), Vec2::INFINITY, 0.0).is_err());
-    assert!(w
-        .create_body(&BodyDef::new(ShapeDef::Circle { radius: -1.0 }))
-        .is_err());
+    assert!(
+        w.create_body(&BodyDef::new(ShapeDef::Circle { radius: -1.0 }))
+            .is_err()
+    );
     assert_eq!(w.state_hash(), hash);
 }
 

@@ -69,7 +69,11 @@ impl BodyMass {
             inertia += md.inertia + md.mass * local.p.length_squared();
             min_extent = min_extent.min(shape.min_extent());
         }
-        let center = if mass > 0.0 { moment / mass } else { Vec2::ZERO };
+        let center = if mass > 0.0 {
+            moment / mass
+        } else {
+            Vec2::ZERO
+        };
         // Back to the centre of mass (Box2D `b2UpdateBodyMassData`).
         inertia -= mass * center.length_squared();
         let extent = shapes.iter().fold(0.0f32, |e, (shape, local, _)| {
@@ -81,7 +85,11 @@ impl BodyMass {
             center,
             inertia,
             extent,
-            min_extent: if min_extent == f32::MAX { 0.0 } else { min_extent },
+            min_extent: if min_extent == f32::MAX {
+                0.0
+            } else {
+                min_extent
+            },
         }
     }
 
@@ -111,7 +119,10 @@ mod tests {
         let shape = Shape::from_def(def.first_shape().unwrap()).unwrap();
         let own = shape.mass(2.5);
         let md = BodyMass::of_def(&def);
-        assert_eq!((md.mass, md.inertia, md.center), (own.mass, own.inertia, Vec2::ZERO));
+        assert_eq!(
+            (md.mass, md.inertia, md.center),
+            (own.mass, own.inertia, Vec2::ZERO)
+        );
         assert_eq!(md.extent, shape.extent());
     }
 

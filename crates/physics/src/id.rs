@@ -6,7 +6,9 @@ use std::fmt;
 
 /// A body's handle. A body from a scene file keeps its index in the file's `bodies` as its
 /// `index`, with generation 0.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize,
+)]
 pub struct BodyId {
     /// Slot in the world's body arrays.
     pub index: u32,
@@ -15,7 +17,9 @@ pub struct BodyId {
 }
 
 /// A shape's handle: like [`BodyId`], for the world's shapes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize,
+)]
 pub struct ShapeId {
     /// Slot in the world's shape arrays.
     pub index: u32,
@@ -115,7 +119,10 @@ impl Slots {
     pub fn check(&self) -> Result<(), String> {
         let dead = self.alive.iter().filter(|a| !**a).count();
         if dead != self.free.len() {
-            return Err(format!("{dead} free slots, {} on the free list", self.free.len()));
+            return Err(format!(
+                "{dead} free slots, {} on the free list",
+                self.free.len()
+            ));
         }
         if self.free.iter().any(|&f| self.is_alive(f as usize)) {
             return Err("a live slot on the free list".into());

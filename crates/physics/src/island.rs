@@ -219,7 +219,9 @@ impl Islands {
         for (k, island) in self.islands.iter().enumerate() {
             for &b in &island.bodies {
                 if self.of_body.get(b as usize) != Some(&(k as u32)) {
-                    return Err(format!("island {k} lists body {b}, whose island is another"));
+                    return Err(format!(
+                        "island {k} lists body {b}, whose island is another"
+                    ));
                 }
             }
         }

@@ -108,7 +108,7 @@ impl Transform {
 
     /// `self * local`: a frame given in `self`'s frame, expressed in the world.
     #[inline]
-    pub fn mul(self, local: Transform) -> Transform {
+    pub fn compose(self, local: Transform) -> Transform {
         Transform {
             p: self.apply(local.p),
             q: local.q.then_from(self.q),

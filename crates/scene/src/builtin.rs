@@ -864,7 +864,12 @@ fn compounds() -> SceneDef {
     scene.steps = 1000;
     let mut ground = container(40.0, 81, 100);
     // Box2D's segment from (-800, -80) to (800, -80), as a thin box whose top face is it.
-    ground.push(offset_box(800.0, SEGMENT_HALF_THICKNESS, 0.0, -80.0 - SEGMENT_HALF_THICKNESS));
+    ground.push(offset_box(
+        800.0,
+        SEGMENT_HALF_THICKNESS,
+        0.0,
+        -80.0 - SEGMENT_HALF_THICKNESS,
+    ));
     scene.push(BodyDef::compound(ground).kind(BodyKind::Static));
     let tri = |points: [[f32; 2]; 3]| {
         PartDef::new(ShapeDef::Polygon {
@@ -924,9 +929,7 @@ fn junkyard() -> SceneDef {
             side = -side;
         }
     }
-    scene.push(
-        BodyDef::compound(vec![offset_box(2.0, 4.0, 0.0, 4.0)]).kind(BodyKind::Kinematic),
-    );
+    scene.push(BodyDef::compound(vec![offset_box(2.0, 4.0, 0.0, 4.0)]).kind(BodyKind::Kinematic));
     scene
 }
 

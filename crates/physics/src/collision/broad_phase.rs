@@ -59,7 +59,8 @@ impl BroadPhase {
     pub fn rebuild(&mut self, aabbs: &[Aabb], live: impl Fn(u32) -> bool) {
         self.nodes.clear();
         self.items.clear();
-        self.items.extend((0..aabbs.len() as u32).filter(|&i| live(i)));
+        self.items
+            .extend((0..aabbs.len() as u32).filter(|&i| live(i)));
         self.centers.clear();
         self.centers.extend(aabbs.iter().map(|b| {
             let c = b.center();

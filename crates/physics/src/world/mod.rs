@@ -20,6 +20,7 @@ mod tests;
 use glam::Vec2;
 use rustc_hash::FxHashMap;
 
+use crate::AABB_MARGIN;
 use crate::body::{BodyMass, part_geometry};
 use crate::collision::Manifold;
 use crate::collision::broad_phase::BroadPhase;
@@ -35,7 +36,6 @@ use crate::solver::contact_solver::BodyState;
 use crate::solver::{
     BodyMotion, ContactInput, NOT_DYNAMIC, Solver, SolverBody, SolverContact, Touching,
 };
-use crate::AABB_MARGIN;
 
 pub use settings::{StepSettings, WideThresholds};
 pub use snapshot::WorldSnapshot;
@@ -496,7 +496,13 @@ impl World {
     }
 
     /// Adds one shape to body `body`'s list (its first), with a fat box to come.
-    fn insert_shape(&mut self, body: u32, shape: Shape, local: Transform, part: &crate::scene::ResolvedPart<'_>) -> ShapeId {
+    fn insert_shape(
+        &mut self,
+        body: u32,
+        shape: Shape,
+        local: Transform,
+        part: &crate::scene::ResolvedPart<'_>,
+    ) -> ShapeId {
         let (index, generation, new) = self.shape_slots.take();
         let record = ShapeRecord {
             body,
@@ -842,7 +848,8 @@ impl World {
 
     /// The shapes of the body in slot `index`, each with its pose in the world.
     pub fn body_shapes(&self, index: usize) -> impl Iterator<Item = ShapeView<'_>> + '_ {
-        self.shapes_of_body(index).map(move |s| self.shape_view(s as usize))
+        self.shapes_of_body(index)
+            .map(move |s| self.shape_view(s as usize))
     }
 
     fn shape_view(&self, s: usize) -> ShapeView<'_> {
@@ -855,7 +862,7 @@ impl World {
             },
             body: r.body as usize,
             shape: &self.shapes[s],
-            transform: if r.offset { xf.mul(r.from_center) } else { xf },
+            transform: if r.offset { xf.compose(r.from_center) } else { xf },
             part: r.part as usize,
             sensor: r.sensor,
         }
@@ -915,7 +922,12 @@ impl World {
     }
 
     /// Sets a body's velocities by id (see [`World::set_velocity`]).
-    pub fn set_body_velocity(&mut self, id: BodyId, linear: Vec2, angular: f32) -> Result<(), WorldError> {
+    pub fn set_body_velocity(
+        &mut self,
+        id: BodyId,
+        linear: Vec2,
+        angular: f32,
+    ) -> Result<(), WorldError> {
         let i = self.slot(id)?;
         if !(linear.is_finite() && angular.is_finite()) {
             return Err(WorldError::Invalid {
@@ -929,7 +941,12 @@ impl World {
 
     /// Moves a body's frame to `position` and `angle` (between steps): it teleports, keeps
     /// its velocity, and is awake. Its contacts are recomputed next step.
-    pub fn set_transform(&mut self, id: BodyId, position: Vec2, angle: f32) -> Result<(), WorldError> {
+    pub fn set_transform(
+        &mut self,
+        id: BodyId,
+        position: Vec2,
+        angle: f32,
+    ) -> Result<(), WorldError> {
         let i = self.slot(id)?;
         if !(position.is_finite() && angle.is_finite()) {
             return Err(WorldError::Invalid {
@@ -957,7 +974,13 @@ impl World {
     /// Box2D's `b2Body_SetTargetTransform`: gives a (kinematic or dynamic) body the
     /// velocity that brings its frame to `position` and `angle` in one step of `dt`, so a
     /// kinematic pusher follows a path and still pushes what it meets.
-    pub fn set_target_transform(&mut self, id: BodyId, position: Vec2, angle: f32, dt: f32) -> Result<(), WorldError> {
+    pub fn set_target_transform(
+        &mut self,
+        id: BodyId,
+        position: Vec2,
+        angle: f32,
+        dt: f32,
+    ) -> Result<(), WorldError> {
         let i = self.slot(id)?;
         if !(position.is_finite() && angle.is_finite() && dt.is_normal() && dt > 0.0) {
             return Err(WorldError::Invalid {
@@ -1101,7 +1124,8 @@ impl World {
             if others == 0 {
                 return Err(WorldError::Invalid {
                     what: format!("{id}"),
-                    why: "the last shape with mass of a dynamic body; destroy the body instead".into(),
+                    why: "the last shape with mass of a dynamic body; destroy the body instead"
+                        .into(),
                 });
             }
         }

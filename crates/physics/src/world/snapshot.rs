@@ -58,7 +58,12 @@ impl WorldSnapshot {
             + size_of_val(&self.fat_aabbs[..])
             + size_of_val(&self.moved[..])
             + size_of_val(&self.contacts[..])
-            + self.islands.islands.iter().map(|i| 4 * i.bodies.len()).sum::<usize>()
+            + self
+                .islands
+                .islands
+                .iter()
+                .map(|i| 4 * i.bodies.len())
+                .sum::<usize>()
             + 4 * self.islands.of_body.len()
     }
 
@@ -151,7 +156,9 @@ impl World {
             snapshot.body_slots.is_alive(i) && r.first_shape != NONE && !live_shape(r.first_shape)
         });
         if bad_shape || bad_contact || bad_list || snapshot.moved.iter().any(|&s| !live_shape(s)) {
-            return Err(corrupt("a shape or contact names what does not exist".into()));
+            return Err(corrupt(
+                "a shape or contact names what does not exist".into(),
+            ));
         }
         if snapshot.islands.of_body.len() > n
             || snapshot

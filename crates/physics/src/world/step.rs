@@ -17,6 +17,7 @@ use glam::Vec2;
 use web_time::Instant;
 
 use super::{BodySim, Contact, ContactCache, ContactKey, ShapeRecord, World, pair_key};
+use crate::SPECULATIVE_DISTANCE;
 use crate::collision::{Manifold, collide};
 use crate::parallel::{Spread, for_each_part, for_parts};
 use crate::profile::StepProfile;
@@ -24,7 +25,6 @@ use crate::scene::BodyKind;
 use crate::shape::{Aabb, Shape};
 use crate::solver::contact_solver::{BodyState, Softness};
 use crate::solver::{SolverParams, SubstepParams, Touching};
-use crate::SPECULATIVE_DISTANCE;
 
 /// Contacts whose relative pose moved less than this keep their manifold (Box2D's
 /// `B2_CONTACT_RECYCLE_DISTANCE`, 10 slops).
@@ -247,7 +247,10 @@ impl World {
         {
             std::mem::swap(&mut a, &mut b);
         }
-        let (ra, rb) = (&self.shape_records[a as usize], &self.shape_records[b as usize]);
+        let (ra, rb) = (
+            &self.shape_records[a as usize],
+            &self.shape_records[b as usize],
+        );
         let contact = Contact {
             shape_a: a,
             shape_b: b,
@@ -266,7 +269,8 @@ impl World {
         };
         self.pairs
             .insert(pair_key(a, b), self.contacts.len() as u32);
-        self.contact_keys.push(ContactKey::of(&contact, &self.awake));
+        self.contact_keys
+            .push(ContactKey::of(&contact, &self.awake));
         self.contacts.push(contact);
     }
 
@@ -311,8 +315,16 @@ impl World {
             let (ra, rb) = (&records[sa], &records[sb]);
             // A shape off its body's centre collides at its own pose; its anchors are then
             // moved to be relative to the body's centre, as the solver wants them.
-            let pose_a = if ra.offset { xa.mul(ra.from_center) } else { xa };
-            let pose_b = if rb.offset { xb.mul(rb.from_center) } else { xb };
+            let pose_a = if ra.offset {
+                xa.compose(ra.from_center)
+            } else {
+                xa
+            };
+            let pose_b = if rb.offset {
+                xb.compose(rb.from_center)
+            } else {
+                xb
+            };
             let mut m = collide(&shapes[sa], pose_a, &shapes[sb], pose_b, max_distance);
             for p in &mut m.points[..m.count] {
                 if ra.offset {
@@ -437,44 +449,45 @@ impl World {
     fn finalize(&mut self, dt: f32, spread: Spread<'_>) {
         let sleep = self.settings.enable_sleep;
         let threshold = self.settings.sleep_threshold;
-        let finalize_one = |sim: &mut BodySim, st: &mut BodyState, guarded: &mut bool, moves: bool| {
-            if !moves {
-                return;
-            }
-            // Box2D `b2FinalizeBodiesTask`: a body that moved more than half its thickness
-            // is fast, and its contacts are recomputed rather than recycled.
-            let max_motion = (st.dp.length() + st.dq.s.abs() * sim.extent)
-                .max((st.v.length() + st.w.abs() * sim.extent) * dt);
-            sim.fast = max_motion > 0.5 * sim.min_extent;
-            // Resting: slower than the threshold at every point of the body (Box2D's sleep
-            // velocity, the larger of |v| and the extent's speed of turning).
-            let sleep_velocity = st.v.length().max(sim.extent * st.w.abs());
-            sim.sleep_time = if sleep && sleep_velocity <= threshold {
-                sim.sleep_time + dt
-            } else {
-                0.0
+        let finalize_one =
+            |sim: &mut BodySim, st: &mut BodyState, guarded: &mut bool, moves: bool| {
+                if !moves {
+                    return;
+                }
+                // Box2D `b2FinalizeBodiesTask`: a body that moved more than half its thickness
+                // is fast, and its contacts are recomputed rather than recycled.
+                let max_motion = (st.dp.length() + st.dq.s.abs() * sim.extent)
+                    .max((st.v.length() + st.w.abs() * sim.extent) * dt);
+                sim.fast = max_motion > 0.5 * sim.min_extent;
+                // Resting: slower than the threshold at every point of the body (Box2D's sleep
+                // velocity, the larger of |v| and the extent's speed of turning).
+                let sleep_velocity = st.v.length().max(sim.extent * st.w.abs());
+                sim.sleep_time = if sleep && sleep_velocity <= threshold {
+                    sim.sleep_time + dt
+                } else {
+                    0.0
+                };
+                let p = sim.xf.p + st.dp;
+                let q = st.dq.then_from(sim.xf.q).normalize();
+                st.dp = Vec2::ZERO;
+                st.dq = crate::math::Rot::IDENTITY;
+                // Numerical guard: a body whose state went non-finite (it cannot with finite
+                // input, but a guard costs four compares) keeps its last finite pose and stops,
+                // rather than spreading NaN through its contacts.
+                if p.is_finite()
+                    && q.c.is_finite()
+                    && q.s.is_finite()
+                    && st.v.is_finite()
+                    && st.w.is_finite()
+                {
+                    sim.xf.p = p;
+                    sim.xf.q = q;
+                } else {
+                    st.v = Vec2::ZERO;
+                    st.w = 0.0;
+                    *guarded = true;
+                }
             };
-            let p = sim.xf.p + st.dp;
-            let q = st.dq.then_from(sim.xf.q).normalize();
-            st.dp = Vec2::ZERO;
-            st.dq = crate::math::Rot::IDENTITY;
-            // Numerical guard: a body whose state went non-finite (it cannot with finite
-            // input, but a guard costs four compares) keeps its last finite pose and stops,
-            // rather than spreading NaN through its contacts.
-            if p.is_finite()
-                && q.c.is_finite()
-                && q.s.is_finite()
-                && st.v.is_finite()
-                && st.w.is_finite()
-            {
-                sim.xf.p = p;
-                sim.xf.q = q;
-            } else {
-                st.v = Vec2::ZERO;
-                st.w = 0.0;
-                *guarded = true;
-            }
-        };
         let motion = &self.motion;
         type Bodies<'a> = (
             &'a mut [BodySim],
@@ -595,8 +608,18 @@ fn recycle(c: &mut Contact, sa: &BodySim, sb: &BodySim) -> bool {
 
 /// The shape's box, stretched along the motion expected in the next step and grown by the
 /// speculative distance: the broad phase then pairs what the speculative margin needs.
-pub(super) fn swept_aabb(shape: &Shape, r: &ShapeRecord, sim: &BodySim, st: &BodyState, dt: f32) -> Aabb {
-    let pose = if r.offset { sim.xf.mul(r.from_center) } else { sim.xf };
+pub(super) fn swept_aabb(
+    shape: &Shape,
+    r: &ShapeRecord,
+    sim: &BodySim,
+    st: &BodyState,
+    dt: f32,
+) -> Aabb {
+    let pose = if r.offset {
+        sim.xf.compose(r.from_center)
+    } else {
+        sim.xf
+    };
     let tight = shape.aabb(pose);
     let d = st.v * dt;
     let swept = Aabb {

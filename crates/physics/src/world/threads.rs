@@ -46,4 +46,3 @@ pub(super) fn start_crew(threads: usize) -> Option<std::sync::Arc<Crew>> {
     .expect("the OS refused to start the step's worker threads");
     Some(std::sync::Arc::new(Crew::start(pool)))
 }
-

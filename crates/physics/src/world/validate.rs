@@ -13,8 +13,12 @@ impl World {
     /// bodies and touching contacts; sleeping bodies at rest and out of every stage; the
     /// broad phase's moved list. Returns the first broken one, described.
     pub fn validate(&self) -> Result<(), String> {
-        self.body_slots.check().map_err(|e| format!("body slots: {e}"))?;
-        self.shape_slots.check().map_err(|e| format!("shape slots: {e}"))?;
+        self.body_slots
+            .check()
+            .map_err(|e| format!("body slots: {e}"))?;
+        self.shape_slots
+            .check()
+            .map_err(|e| format!("shape slots: {e}"))?;
         let n = self.sims.len();
         let mut owner = vec![NONE; self.shapes.len()];
         for i in 0..n {
@@ -33,7 +37,9 @@ impl World {
                     return Err(format!("body {i} lists free shape slot {s}"));
                 }
                 if owner[su] != NONE || self.shape_records[su].body as usize != i {
-                    return Err(format!("shape {s} is listed by body {i} but belongs elsewhere"));
+                    return Err(format!(
+                        "shape {s} is listed by body {i} but belongs elsewhere"
+                    ));
                 }
                 if self.shape_body[su] as usize != i {
                     return Err(format!("shape {s}'s compact body copy is stale"));
@@ -51,9 +57,16 @@ impl World {
             }));
             let sb = self.solver_bodies[i];
             let dynamic = kind == BodyKind::Dynamic;
-            let inv_mass = if dynamic && md.mass > 0.0 { 1.0 / md.mass } else { 0.0 };
+            let inv_mass = if dynamic && md.mass > 0.0 {
+                1.0 / md.mass
+            } else {
+                0.0
+            };
             if sb.inv_mass != inv_mass || sb.dynamic != dynamic {
-                return Err(format!("body {i}'s mass is stale ({} vs {inv_mass})", sb.inv_mass));
+                return Err(format!(
+                    "body {i}'s mass is stale ({} vs {inv_mass})",
+                    sb.inv_mass
+                ));
             }
             let center = if dynamic { md.center } else { glam::Vec2::ZERO };
             if self.records[i].local_center != center {
@@ -77,7 +90,9 @@ impl World {
                         return Err(format!("dynamic body {i} is in no island"));
                     }
                     if self.islands.islands[island as usize].awake != self.awake[i] {
-                        return Err(format!("body {i} and its island {island} disagree on sleep"));
+                        return Err(format!(
+                            "body {i} and its island {island} disagree on sleep"
+                        ));
                     }
                     let st = &self.states[i];
                     if !self.awake[i] && (st.v != glam::Vec2::ZERO || st.w != 0.0) {
@@ -99,12 +114,14 @@ impl World {
         }
         self.islands.check()?;
         // Contacts.
-        if self.contact_keys.len() != self.contacts.len() || self.pairs.len() != self.contacts.len() {
+        if self.contact_keys.len() != self.contacts.len() || self.pairs.len() != self.contacts.len()
+        {
             return Err("contact arrays and pair map differ in length".into());
         }
         for (k, (c, key)) in self.contacts.iter().zip(&self.contact_keys).enumerate() {
             for (s, b) in [(c.shape_a, c.body_a), (c.shape_b, c.body_b)] {
-                if !self.shape_slots.is_alive(s as usize) || self.shape_records[s as usize].body != b
+                if !self.shape_slots.is_alive(s as usize)
+                    || self.shape_records[s as usize].body != b
                 {
                     return Err(format!("contact {k} names shape {s} not on body {b}"));
                 }
@@ -122,7 +139,9 @@ impl World {
                 return Err(format!("contact {k}'s copy of its bodies' masses is stale"));
             }
             let fresh = ContactKey::of(c, &self.awake);
-            if fresh.dynamic != key.dynamic || fresh.frozen != key.frozen || fresh.sleeping != key.sleeping
+            if fresh.dynamic != key.dynamic
+                || fresh.frozen != key.frozen
+                || fresh.sleeping != key.sleeping
             {
                 return Err(format!("contact {k}'s key is stale"));
             }
@@ -145,7 +164,9 @@ impl World {
         // Moved proxies.
         for (s, &f) in self.moved_flags.iter().enumerate() {
             if f != self.moved.contains(&(s as u32)) {
-                return Err(format!("shape {s}'s moved flag disagrees with the moved list"));
+                return Err(format!(
+                    "shape {s}'s moved flag disagrees with the moved list"
+                ));
             }
             if f && !self.shape_slots.is_alive(s) {
                 return Err(format!("free shape slot {s} is moved"));
