@@ -94,11 +94,11 @@ impl Camera {
 pub fn world_bounds(world: &World) -> Aabb {
     let union = |statics: bool| {
         let mut bounds: Option<Aabb> = None;
-        for i in 0..world.body_count() {
-            if !statics && world.body(i).kind == BodyKind::Static {
+        // Every shape of every live body (both walk the live shapes in slot order).
+        for (shape, b) in world.shapes().zip(world.fat_aabbs()) {
+            if !statics && world.body(shape.body).kind == BodyKind::Static {
                 continue;
             }
-            let b = world.fat_aabb(i);
             if b.min.is_finite() && b.max.is_finite() {
                 bounds = Some(bounds.map_or(b, |a| a.union(&b)));
             }

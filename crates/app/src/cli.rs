@@ -124,8 +124,10 @@ pub struct Stats {
     pub frames: u64,
     /// Physics steps taken by the simulation.
     pub steps: u64,
-    /// Bodies in the world.
+    /// Bodies in the world (live ones: the user may have dropped and removed some).
     pub bodies: usize,
+    /// Awake bodies at exit (kinematic ones and awake dynamic ones).
+    pub awake_bodies: usize,
     /// Worker threads at exit.
     pub threads: usize,
     /// The graphics backend, as wgpu names it ("Vulkan", "Gl", ...).

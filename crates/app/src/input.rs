@@ -32,6 +32,14 @@ pub enum Key {
     S,
     /// Fit the scene in view.
     F,
+    /// Drop a box at the pointer.
+    B,
+    /// Drop a ball at the pointer.
+    N,
+    /// Remove the body under the pointer.
+    X,
+    /// Remove the body under the pointer, too.
+    Delete,
     /// Menu selection up.
     ArrowUp,
     /// Menu selection down.
@@ -183,6 +191,10 @@ fn key_from_code(code: KeyCode) -> Key {
         KeyCode::KeyR => Key::R,
         KeyCode::KeyS => Key::S,
         KeyCode::KeyF => Key::F,
+        KeyCode::KeyB => Key::B,
+        KeyCode::KeyN => Key::N,
+        KeyCode::KeyX => Key::X,
+        KeyCode::Delete => Key::Delete,
         KeyCode::ArrowUp => Key::ArrowUp,
         KeyCode::ArrowDown => Key::ArrowDown,
         _ => Key::Other,

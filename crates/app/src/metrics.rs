@@ -96,7 +96,10 @@ impl Metrics {
             .flat_map(|c| c.manifold.points().iter().map(|p| -p.separation))
             .fold(0.0f32, f32::max);
         self.value = match self.case {
+            // The scene's bodies that are still there (a body the user dropped later may
+            // have taken a removed one's slot, under a new generation).
             Case::Displacement { .. } => (0..world.body_count().min(self.start.len()))
+                .filter(|&i| world.body_id(i).is_some_and(|id| id.generation == 0))
                 .filter(|&i| world.body(i).kind == BodyKind::Dynamic)
                 .map(|i| f64::from((world.body(i).position - self.start[i]).length()))
                 .fold(0.0, f64::max),
@@ -104,6 +107,7 @@ impl Metrics {
                 (self.energy / self.energy0 - 1.0).abs()
             }
             Case::PeakSpeed { .. } => (0..world.body_count())
+                .filter(|&i| world.is_body(i))
                 .map(|i| f64::from(world.body(i).linear_velocity.length()))
                 .fold(0.0, f64::max),
             _ => 0.0,

@@ -36,6 +36,8 @@ pub struct DebugDraw {
     pub grid: bool,
     /// Colour dynamic bodies by speed instead of by id.
     pub color_by_speed: bool,
+    /// Colour dynamic bodies by their island (over colour by speed).
+    pub islands: bool,
 }
 
 /// Everything the viewer remembers.

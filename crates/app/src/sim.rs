@@ -5,14 +5,22 @@
 //! The physics always advances by the scene's `dt`, never by the frame's time: the clock
 //! accumulates frame time and hands out whole steps, so a scene gives the same result at 30
 //! and at 144 frames per second (the test below proves it through [`World::state_hash`]).
+//!
+//! Before every step the built-in scene's script runs (the `junkyard` moves its pusher with
+//! it; [`tumble_scene::builtin::script`]). Bodies the user drops or removes between steps
+//! ([`Edit`]) are recorded with the step they came before, so a replay makes them again at
+//! the same point and still ends bit for bit where the run was.
 
 use std::collections::VecDeque;
 use std::sync::Arc;
 
 use anyhow::{Context, Result};
 use glam::Vec2;
-use tumble_physics::{BodyKind, Rot, SceneDef, StepSettings, World, WorldSnapshot};
+use tumble_physics::{
+    BodyDef, BodyId, BodyKind, Rot, SceneDef, ShapeDef, StepSettings, World, WorldSnapshot,
+};
 use tumble_scene::LoadLimits;
+use tumble_scene::builtin::Script;
 
 /// The longest frame the clock accepts (s): a frame that took longer (a window drag, a
 /// debugger) counts as this long, so the simulation does not leap ahead.
@@ -100,7 +108,7 @@ impl Drag {
     /// (Box2D's soft constraint: a stiffness and damping ratio turned into a bias rate and a
     /// mass scale), so it is stable at any step size.
     pub fn apply(&self, world: &mut World, dt: f32) {
-        if self.body >= world.body_count() {
+        if self.body >= world.body_count() || !world.is_body(self.body) {
             return;
         }
         let body = world.body(self.body);
@@ -146,7 +154,8 @@ pub const REPLAY_SECONDS: f64 = 10.0;
 pub const REPLAY_BYTES: usize = 192 << 20;
 
 /// What a step was taken with, beyond the world itself: what a replay must apply again to
-/// reproduce it bit for bit.
+/// reproduce it bit for bit. (The user's edits before the step are kept beside, in
+/// [`Recording`]'s edit log, as they are rare.)
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct StepInput {
     drag: Option<Drag>,
@@ -154,15 +163,71 @@ struct StepInput {
     settings: StepSettings,
 }
 
+/// Side of the box the B key drops (m).
+pub const DROP_BOX_SIZE: f32 = 0.5;
+/// Radius of the ball the N key drops (m).
+pub const DROP_BALL_RADIUS: f32 = 0.25;
+
+/// A change the user makes to the world between steps, through the world's API. It is
+/// recorded with the step it came before and made again there by a replay.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Edit {
+    /// Create this body (it takes the lowest free slot, as it did live).
+    Create(Box<BodyDef>),
+    /// Destroy this body.
+    Destroy(BodyId),
+}
+
+impl Edit {
+    /// A dynamic box of [`DROP_BOX_SIZE`] at `at`, default material.
+    pub fn drop_box(at: Vec2) -> Edit {
+        let h = DROP_BOX_SIZE / 2.0;
+        Edit::Create(Box::new(
+            BodyDef::new(ShapeDef::Box {
+                half_extents: [h, h],
+            })
+            .at(at.x, at.y),
+        ))
+    }
+
+    /// A dynamic ball of radius [`DROP_BALL_RADIUS`] at `at`, default material.
+    pub fn drop_ball(at: Vec2) -> Edit {
+        Edit::Create(Box::new(
+            BodyDef::new(ShapeDef::Circle {
+                radius: DROP_BALL_RADIUS,
+            })
+            .at(at.x, at.y),
+        ))
+    }
+
+    /// Makes the change; the created body's id, or why the world refused.
+    fn apply(&self, world: &mut World) -> Result<Option<BodyId>> {
+        match self {
+            Edit::Create(def) => world
+                .create_body(def)
+                .map(Some)
+                .context("cannot create the body"),
+            Edit::Destroy(id) => world
+                .destroy_body(*id)
+                .map(|()| None)
+                .context("cannot remove the body"),
+        }
+    }
+}
+
 /// The last seconds of the run: a snapshot of the world every second and the input of every
-/// step since the oldest one. The simulation is deterministic, so restoring a snapshot and
-/// stepping with the recorded inputs gives the recorded states again, bit for bit.
+/// step since the oldest one, with the user's edits. The simulation is deterministic, so
+/// restoring a snapshot and stepping with the recorded inputs (making the recorded edits
+/// before their steps) gives the recorded states again, bit for bit.
 #[derive(Default)]
 pub struct Recording {
-    /// `(steps since the world was built, the world then)`, oldest first.
+    /// `(steps since the world was built, the world then)`, oldest first. A snapshot of
+    /// step `s` is taken before the edits made before step `s`.
     snapshots: VecDeque<(u64, WorldSnapshot)>,
     /// The input of each step from the oldest snapshot on, in order.
     inputs: VecDeque<StepInput>,
+    /// `(the step it came before, the edit)`, from the oldest snapshot on, in order made.
+    edits: VecDeque<(u64, Edit)>,
     bytes: usize,
 }
 
@@ -178,6 +243,29 @@ impl Recording {
 
     /// Called before step `step` (counted from the build) is taken.
     fn record(&mut self, step: u64, world: &World, input: StepInput, steps_per_snapshot: u64) {
+        self.snapshot_if_due(step, world, steps_per_snapshot);
+        self.inputs.push_back(input);
+    }
+
+    /// Called after an edit was made before step `step` (and after
+    /// [`Recording::snapshot_if_due`] was called before it: the snapshot of that step, if
+    /// one is due, must show the world without it).
+    fn record_edit(&mut self, step: u64, edit: Edit) {
+        self.edits.push_back((step, edit));
+    }
+
+    /// The edits recorded before step `step`, in the order they were made.
+    fn edits_at(&self, step: u64) -> Vec<Edit> {
+        self.edits
+            .iter()
+            .filter(|(s, _)| *s == step)
+            .map(|(_, e)| e.clone())
+            .collect()
+    }
+
+    /// Takes the snapshot of step `step` if one is due and not taken yet; drops what is
+    /// older than the replay keeps.
+    fn snapshot_if_due(&mut self, step: u64, world: &World, steps_per_snapshot: u64) {
         let due = step.is_multiple_of(steps_per_snapshot) || self.snapshots.is_empty();
         if due && self.snapshots.back().is_none_or(|&(s, _)| s != step) {
             let snapshot = world.snapshot();
@@ -194,9 +282,11 @@ impl Recording {
                 let first = self.snapshots.front().expect("one left").0;
                 let drop = self.inputs.len() - (step - first) as usize;
                 self.inputs.drain(..drop);
+                while self.edits.front().is_some_and(|&(s, _)| s < first) {
+                    self.edits.pop_front();
+                }
             }
         }
-        self.inputs.push_back(input);
     }
 
     /// Forgets everything from step `step` on (the replay was stopped there: the future
@@ -208,6 +298,11 @@ impl Recording {
         }
         let first = self.snapshots.front().map_or(step, |&(s, _)| s);
         self.inputs.truncate(step.saturating_sub(first) as usize);
+        // The edits before step `step` were not made again yet (a replayed step makes them
+        // first): they belong to the forgotten future too.
+        while self.edits.back().is_some_and(|&(s, _)| s >= step) {
+            self.edits.pop_back();
+        }
     }
 }
 
@@ -290,6 +385,8 @@ pub struct Sim {
     pub replay: Option<Replay>,
     /// The scene's error metric, measured after each frame's steps.
     pub metrics: crate::metrics::Metrics,
+    /// The built-in scene's per-step script, if it is a built-in that has one.
+    script: Option<Script>,
 }
 
 /// Seconds of simulated time the profile history keeps.
@@ -313,7 +410,9 @@ impl Sim {
             recording: Recording::default(),
             replay: None,
             metrics: crate::metrics::Metrics::default(),
+            script: None,
         };
+        sim.script = script_of(&sim.scene);
         sim.metrics = crate::metrics::Metrics::new(&sim.scene, &sim.world);
         sim.set_threads(threads);
         Ok(sim)
@@ -402,16 +501,9 @@ impl Sim {
     }
 
     /// Puts a saved world back (its scene too, for restart), keeping the thread count. It
-    /// then goes on exactly as the saved one would have.
+    /// then goes on exactly as the saved one would have. (Its bodies need not be its
+    /// scene's: the user may have dropped and removed some.)
     pub fn restore(&mut self, saved: SavedWorld) -> Result<()> {
-        if saved.world.body_count() != saved.scene.bodies.len() {
-            anyhow::bail!(
-                "snapshot of `{}`: {} bodies in the world but {} in its scene; allowed: a file written by Save snapshot",
-                saved.scene.name,
-                saved.world.body_count(),
-                saved.scene.bodies.len()
-            );
-        }
         // Everything that can fail comes first, so a bad file leaves the running world as it
         // was: the scene is validated by building its start (what the metrics measure from).
         let start = build_world(&saved.scene)?;
@@ -420,6 +512,7 @@ impl Sim {
         if *self.scene != saved.scene {
             self.clock = FixedStep::new(saved.scene.dt);
             self.scene = Arc::new(saved.scene);
+            self.script = script_of(&self.scene);
         }
         self.install_world(world, saved.steps);
         self.substeps = saved.substeps;
@@ -463,37 +556,62 @@ impl Sim {
         self.metrics.measure(&self.world);
     }
 
+    /// Steps between two of the replay's snapshots: one a second.
+    fn steps_per_snapshot(&self) -> u64 {
+        (1.0 / f64::from(self.scene.dt)).round().max(1.0) as u64
+    }
+
+    /// Makes the edits recorded before step `step` again (a replay).
+    fn replay_edits(&mut self, step: u64) {
+        for edit in self.recording.edits_at(step) {
+            // It succeeded live on this same world, so it succeeds again.
+            let _ = edit.apply(&mut self.world);
+        }
+    }
+
     fn step_once(&mut self) {
         let dt = self.scene.dt;
+        let mut replay_ends = false;
         let input = match self.replay {
             Some(replay) => {
+                self.replay_edits(self.steps);
                 let first = self.recording.snapshots.front().map_or(0, |&(s, _)| s);
                 let recorded = self.recording.inputs[(self.steps - first) as usize];
                 if self.steps + 1 >= replay.until {
                     // This is the last replayed step: live from the next one on.
                     self.replay = None;
+                    replay_ends = true;
                 }
                 *self.world.settings_mut() = recorded.settings;
                 self.substeps = recorded.substeps;
                 recorded
             }
             None => {
+                // Live edits were made when asked (see [`Sim::edit`]); only recorded here.
                 let input = StepInput {
                     drag: self.drag,
                     substeps: self.substeps.max(1),
                     settings: *self.world.settings(),
                 };
-                let per_second = (1.0 / f64::from(dt)).round().max(1.0) as u64;
+                let per_snapshot = self.steps_per_snapshot();
                 self.recording
-                    .record(self.steps, &self.world, input, per_second);
+                    .record(self.steps, &self.world, input, per_snapshot);
                 input
             }
         };
+        if let Some(script) = self.script {
+            script(self.steps, &mut self.world);
+        }
         if let Some(drag) = input.drag {
             drag.apply(&mut self.world, dt);
         }
         self.world.step(dt, input.substeps);
         self.steps += 1;
+        if replay_ends {
+            // Edits made after the last recorded step, before the replay began: the world
+            // was showing them then.
+            self.replay_edits(self.steps);
+        }
         self.total_steps += 1;
         let profile = self.world.profile();
         self.total_step_ms += profile.step_ms;
@@ -521,6 +639,55 @@ impl Sim {
         }
     }
 
+    /// Makes an edit now, between steps (a replay in progress stops first: the run goes on
+    /// live from here) and records it for the replay. Returns the created body's id, if it
+    /// made one, or why the world refused (nothing is recorded then).
+    pub fn edit(&mut self, edit: Edit) -> Result<Option<BodyId>> {
+        self.stop_replay();
+        let per_snapshot = self.steps_per_snapshot();
+        // The snapshot due at this step must not show the edit: taken first (a refused edit
+        // changes nothing, so it is right then too).
+        self.recording
+            .snapshot_if_due(self.steps, &self.world, per_snapshot);
+        let made = edit.apply(&mut self.world)?;
+        if let Edit::Destroy(id) = &edit
+            && self.drag.is_some_and(|d| d.body == id.index as usize)
+        {
+            self.drag = None;
+        }
+        self.recording.record_edit(self.steps, edit);
+        Ok(made)
+    }
+
+    /// Drops a dynamic box of [`DROP_BOX_SIZE`] at `point` (the B key).
+    pub fn drop_box(&mut self, point: Vec2) -> Result<BodyId> {
+        self.edit(Edit::drop_box(point))
+            .map(|id| id.expect("a created body"))
+    }
+
+    /// Drops a dynamic ball of radius [`DROP_BALL_RADIUS`] at `point` (the N key).
+    pub fn drop_ball(&mut self, point: Vec2) -> Result<BodyId> {
+        self.edit(Edit::drop_ball(point))
+            .map(|id| id.expect("a created body"))
+    }
+
+    /// Removes the body under `point` (the Delete and X keys), unless it is static: the
+    /// scene's ground and walls stay, so a stray key cannot empty a container. Returns the
+    /// removed body's id; `None` with nothing (or only a static body) there.
+    pub fn remove_at(&mut self, point: Vec2) -> Result<Option<BodyId>> {
+        let Some(index) = self.world.body_at(point) else {
+            return Ok(None);
+        };
+        if self.world.body(index).kind == BodyKind::Static {
+            return Ok(None);
+        }
+        let Some(id) = self.world.body_id(index) else {
+            return Ok(None);
+        };
+        self.edit(Edit::Destroy(id))?;
+        Ok(Some(id))
+    }
+
     /// Starts holding the dynamic body under `point`, if any; returns whether one was caught.
     pub fn grab(&mut self, point: Vec2) -> bool {
         let Some(body) = self.world.body_at(point) else {
@@ -537,6 +704,13 @@ impl Sim {
         });
         true
     }
+}
+
+/// The per-step script of a built-in scene (the scene as the built-in builds it, whatever
+/// its source: a file with another body list under a built-in's name gets none).
+fn script_of(scene: &SceneDef) -> Option<Script> {
+    let script = tumble_scene::builtin::script(&scene.name)?;
+    (tumble_scene::builtin::build(&scene.name)? == *scene).then_some(script)
 }
 
 /// Builds a scene's world with the loader's limits.
@@ -681,6 +855,191 @@ mod tests {
         }
         assert_eq!(sim.recording.inputs.len() as u64, sim.steps - replay.from);
         assert!(sim.start_replay());
+    }
+
+    /// The world's own consistency check, after an edit.
+    fn valid(world: &World) {
+        if let Err(e) = world.validate() {
+            panic!("inconsistent world: {e}");
+        }
+    }
+
+    fn steps(sim: &mut Sim, n: u64) {
+        for _ in 0..n {
+            sim.single_step();
+        }
+    }
+
+    #[test]
+    fn drops_and_removals_are_replayed_bit_for_bit() {
+        let mut sim = Sim::new(scene("falling_circles"), 2).unwrap();
+        let bodies = sim.world.live_body_count();
+        assert_eq!(bodies, sim.scene.bodies.len());
+        // Before the first step: the snapshot of step 0 must show the world without it.
+        let first = sim.drop_box(Vec2::new(-3.0, 12.0)).unwrap();
+        valid(&sim.world);
+        assert_eq!(first.index as usize, bodies);
+        assert_eq!(sim.world.live_body_count(), bodies + 1);
+        assert_eq!(sim.world.body(bodies).kind, BodyKind::Dynamic);
+        assert_eq!(sim.world.body(bodies).position, Vec2::new(-3.0, 12.0));
+        steps(&mut sim, 60);
+        // At the step of a snapshot (one a second).
+        sim.drop_ball(Vec2::new(3.0, 12.0)).unwrap();
+        valid(&sim.world);
+        assert_eq!(sim.world.live_body_count(), bodies + 2);
+        steps(&mut sim, 40);
+        // Remove a falling circle, held on the mouse spring: the spring lets go.
+        let victim = sim.world.body_count() - 5;
+        let at = sim.world.body(victim).position;
+        assert!(sim.grab(at));
+        let removed = sim
+            .remove_at(at)
+            .unwrap()
+            .expect("a body under the pointer");
+        valid(&sim.world);
+        assert_eq!(removed.index as usize, victim);
+        assert!(!sim.world.is_body(victim));
+        assert_eq!(sim.world.live_body_count(), bodies + 1);
+        assert_eq!(sim.drag, None);
+        // The ground stays.
+        assert_eq!(sim.remove_at(Vec2::new(30.0, -1.0)).unwrap(), None);
+        assert_eq!(sim.world.live_body_count(), bodies + 1);
+        // Nothing to remove in empty space.
+        assert_eq!(sim.remove_at(Vec2::new(30.0, 50.0)).unwrap(), None);
+        steps(&mut sim, 20);
+        // The next body takes the freed slot, under a new generation.
+        let again = sim.drop_box(Vec2::new(0.0, 14.0)).unwrap();
+        valid(&sim.world);
+        assert_eq!(again.index, removed.index);
+        assert_eq!(again.generation, removed.generation + 1);
+        steps(&mut sim, 60);
+        // Made after the last step, just before the replay starts.
+        let last = sim.drop_ball(Vec2::new(-6.0, 14.0)).unwrap();
+        valid(&sim.world);
+        let (hash, steps_then, live) = (
+            sim.world.state_hash(),
+            sim.steps,
+            sim.world.live_body_count(),
+        );
+        assert_eq!(live, bodies + 3);
+
+        assert!(sim.start_replay());
+        assert_eq!(sim.replay.map(|r| (r.from, r.until)), Some((0, 180)));
+        // Back before the first drop.
+        assert_eq!(sim.world.live_body_count(), bodies);
+        while sim.replay.is_some() {
+            sim.single_step();
+            valid(&sim.world);
+        }
+        assert_eq!(sim.steps, steps_then);
+        assert_eq!(sim.world.live_body_count(), live);
+        assert!(sim.world.is_body(last.index as usize));
+        assert_eq!(sim.world.body_id(victim), Some(again));
+        assert_eq!(sim.world.state_hash(), hash);
+
+        // And the run goes on as it would have without the replay.
+        let mut live_run = Sim::new(scene("falling_circles"), 1).unwrap();
+        live_run.drop_box(Vec2::new(-3.0, 12.0)).unwrap();
+        steps(&mut live_run, 60);
+        live_run.drop_ball(Vec2::new(3.0, 12.0)).unwrap();
+        steps(&mut live_run, 40);
+        live_run.remove_at(at).unwrap().unwrap();
+        steps(&mut live_run, 20);
+        live_run.drop_box(Vec2::new(0.0, 14.0)).unwrap();
+        steps(&mut live_run, 60);
+        live_run.drop_ball(Vec2::new(-6.0, 14.0)).unwrap();
+        assert_eq!(live_run.world.state_hash(), hash);
+        steps(&mut live_run, 30);
+        steps(&mut sim, 30);
+        assert_eq!(sim.world.state_hash(), live_run.world.state_hash());
+    }
+
+    #[test]
+    fn a_stopped_replay_forgets_the_edits_it_did_not_reach() {
+        let mut sim = Sim::new(scene("falling_circles"), 1).unwrap();
+        let bodies = sim.world.live_body_count();
+        sim.drop_box(Vec2::new(-3.0, 12.0)).unwrap();
+        steps(&mut sim, 100);
+        sim.drop_ball(Vec2::new(3.0, 12.0)).unwrap();
+        steps(&mut sim, 100);
+        assert_eq!(sim.world.live_body_count(), bodies + 2);
+        assert!(sim.start_replay());
+        steps(&mut sim, 50);
+        assert_eq!(sim.world.live_body_count(), bodies + 1);
+        sim.stop_replay();
+        // Live from step 50: the ball of step 100 is not made again.
+        steps(&mut sim, 150);
+        assert_eq!(sim.world.live_body_count(), bodies + 1);
+        valid(&sim.world);
+        // An edit during a replay stops it and is made live.
+        let hash = sim.world.state_hash();
+        assert!(sim.start_replay());
+        steps(&mut sim, 10);
+        sim.drop_ball(Vec2::new(0.0, 20.0)).unwrap();
+        assert_eq!(sim.replay, None);
+        assert_eq!(sim.steps, 10);
+        assert_eq!(sim.world.live_body_count(), bodies + 2);
+        steps(&mut sim, 190);
+        // A replay of this new past ends where it is, the ball included.
+        let (hash2, live) = (sim.world.state_hash(), sim.world.live_body_count());
+        assert_ne!(hash2, hash);
+        assert!(sim.start_replay());
+        while sim.replay.is_some() {
+            sim.single_step();
+        }
+        assert_eq!(sim.steps, 200);
+        assert_eq!(sim.world.live_body_count(), live);
+        assert_eq!(sim.world.state_hash(), hash2);
+    }
+
+    #[test]
+    fn a_saved_world_with_edits_goes_on_bit_for_bit() {
+        let mut sim = Sim::new(scene("falling_circles"), 1).unwrap();
+        sim.drop_box(Vec2::new(-3.0, 12.0)).unwrap();
+        steps(&mut sim, 50);
+        let victim = sim.world.body_count() - 3;
+        let at = sim.world.body(victim).position;
+        sim.remove_at(at).unwrap().unwrap();
+        let text = sim.save().to_json();
+        let mut other = Sim::new(scene("pyramid"), 2).unwrap();
+        other
+            .restore(SavedWorld::from_json(&text, "saved.json").unwrap())
+            .unwrap();
+        valid(&other.world);
+        assert_eq!(other.world.live_body_count(), sim.world.live_body_count());
+        assert!(!other.world.is_body(victim));
+        steps(&mut sim, 60);
+        steps(&mut other, 60);
+        assert_eq!(sim.world.state_hash(), other.world.state_hash());
+    }
+
+    #[test]
+    fn the_junkyard_script_moves_the_pusher_live_and_in_the_replay() {
+        let junkyard = scene("junkyard");
+        let pusher = junkyard.bodies.len() - 1;
+        assert_eq!(junkyard.bodies[pusher].kind, BodyKind::Kinematic);
+        let mut sim = Sim::new(Arc::clone(&junkyard), 2).unwrap();
+        assert!(sim.script.is_some());
+        steps(&mut sim, 70);
+        let x = sim.world.body(pusher).origin.x;
+        // x = 60 sin(0.2 t) at t = 70/60 s: the script ran before every step.
+        let expected = 60.0 * (0.2f32 * 69.0 / 60.0).sin();
+        assert!(
+            (x - expected).abs() < 1e-3,
+            "pusher at {x}, expected {expected}"
+        );
+        let hash = sim.world.state_hash();
+        assert!(sim.start_replay());
+        while sim.replay.is_some() {
+            sim.single_step();
+        }
+        assert_eq!(sim.world.body(pusher).origin.x, x);
+        assert_eq!(sim.world.state_hash(), hash);
+        // Only the built-in itself has the script: not another scene, not one changed.
+        assert!(Sim::new(scene("pyramid"), 1).unwrap().script.is_none());
+        let mut changed = (*junkyard).clone();
+        changed.bodies.remove(1);
+        assert!(script_of(&changed).is_none());
     }
 
     #[test]

@@ -254,6 +254,7 @@ fn debug_lines_are_one_more_draw_call_and_buffers_grow_geometrically() {
         normals: true,
         grid: true,
         color_by_speed: false,
+        islands: false,
     };
     let (image, renderer) = render(&gpu, &sim, &cam, &debug);
     // Polygons and lines; no circles in this scene.
@@ -274,4 +275,64 @@ fn debug_lines_are_one_more_draw_call_and_buffers_grow_geometrically() {
         .filter(|p| !close([p[0], p[1], p[2], p[3]], background, 4))
         .count();
     assert!(drawn > 1000, "{drawn} pixels drawn");
+}
+
+#[test]
+fn every_part_of_a_compound_body_is_drawn_and_a_sleeping_one_faded() {
+    use tumble_app::render::instances::asleep;
+    use tumble_physics::PartDef;
+    let gpu = gpu();
+    // One dynamic body of two parts, a box right of its origin and a disc left of it; then
+    // the same body asleep beside it.
+    let body = |x: f32, awake: bool| {
+        BodyDef::compound(vec![
+            PartDef::new(ShapeDef::Box {
+                half_extents: [0.6, 0.6],
+            })
+            .at(1.2, 0.0, 0.0),
+            PartDef::new(ShapeDef::Circle { radius: 0.6 }).at(-1.2, 0.0, 0.0),
+        ])
+        .at(x, 0.0)
+        .awake(awake)
+    };
+    let mut scene = SceneDef::new("compound");
+    scene.sleep = true;
+    scene.push(body(-2.5, true));
+    scene.push(body(2.5, false));
+    let sim = Sim::new(Arc::new(scene), 1).unwrap();
+    assert!(sim.world.is_awake(0) && !sim.world.is_awake(1));
+    let cam = Camera::new(Vec2::ZERO, 25.0, Vec2::new(WIDTH as f32, HEIGHT as f32));
+    let (image, renderer) = render(&gpu, &sim, &cam, &DebugDraw::default());
+    // Two bodies, four shapes: two circles, two polygons.
+    assert_eq!(renderer.counts()[..2], [2, 2]);
+    let px = |p: Vec2| {
+        let s = cam.world_to_screen(p);
+        image.get(s.x.floor() as u32, s.y.floor() as u32)
+    };
+    let background = to_u8(palette::BACKGROUND);
+    for (index, x) in [(0, -2.5f32), (1, 2.5)] {
+        let fill = if index == 0 {
+            dynamic_color(index)
+        } else {
+            asleep(dynamic_color(index))
+        };
+        let fill = to_u8(fill);
+        // Each part, off its orientation line (the disc's runs right from its centre).
+        let box_px = px(Vec2::new(x + 1.2, -0.3));
+        assert!(
+            close(box_px, fill, 2),
+            "body {index} box: {box_px:?}, want {fill:?}"
+        );
+        let disc_px = px(Vec2::new(x - 1.2, -0.3));
+        assert!(
+            close(disc_px, fill, 2),
+            "body {index} disc: {disc_px:?}, want {fill:?}"
+        );
+        // Between the parts (the body's origin) nothing is drawn.
+        let gap = px(Vec2::new(x, 0.0));
+        assert!(close(gap, background, 2), "body {index} origin: {gap:?}");
+    }
+    // The sleeping body is not drawn in its awake colour.
+    let faded = px(Vec2::new(3.7, -0.3));
+    assert!(!close(faded, to_u8(dynamic_color(1)), 8), "{faded:?}");
 }

@@ -30,13 +30,13 @@ pub struct CircleInstance {
     pub radius: f32,
 }
 
-/// One convex polygon: centre, rotation, colour, up to eight vertices in the body's frame
-/// (two per `[f32; 4]`), their bounding box in the body's frame, and the vertex count.
+/// One convex polygon: centre, rotation, colour, up to eight vertices in the shape's frame
+/// (two per `[f32; 4]`), their bounding box in the shape's frame, and the vertex count.
 /// 116 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct PolygonInstance {
-    /// World position of the body's origin (its centroid).
+    /// World position of the shape's frame (its centroid).
     pub center: [f32; 2],
     /// Rotation as (cos, sin).
     pub rotation: [f32; 2],
@@ -44,7 +44,7 @@ pub struct PolygonInstance {
     pub color: [f32; 4],
     /// Vertices, two per entry: (v0, v1), (v2, v3), (v4, v5), (v6, v7).
     pub vertices: [[f32; 4]; 4],
-    /// The vertices' bounding box in the body's frame: (min x, min y, max x, max y). The quad
+    /// The vertices' bounding box in the shape's frame: (min x, min y, max x, max y). The quad
     /// covers it (plus a margin for the soft edge), so a box's quad is the box itself and no
     /// fragment is shaded for nothing.
     pub bounds: [f32; 4],
@@ -167,6 +167,26 @@ pub fn dynamic_color(index: usize) -> [f32; 3] {
     hsv(0.08 + h * 0.6, 0.50, 0.95)
 }
 
+/// An island's colour: its slot hashed to a hue, so neighbouring islands differ.
+pub fn island_color(island: usize) -> [f32; 3] {
+    // A 32-bit integer hash (lowbias32), then the top bits as the hue.
+    let mut x = island as u32;
+    x ^= x >> 16;
+    x = x.wrapping_mul(0x7feb_352d);
+    x ^= x >> 15;
+    x = x.wrapping_mul(0x846c_a68b);
+    x ^= x >> 16;
+    hsv((x >> 8) as f32 / (1u32 << 24) as f32, 0.65, 0.95)
+}
+
+/// How much a sleeping body's colour is mixed toward the background.
+pub const SLEEP_FADE: f32 = 0.5;
+
+/// A sleeping body's colour: `rgb` mixed [`SLEEP_FADE`] of the way to the background.
+pub fn asleep(rgb: [f32; 3]) -> [f32; 3] {
+    std::array::from_fn(|k| rgb[k] + (palette::BACKGROUND[k] - rgb[k]) * SLEEP_FADE)
+}
+
 /// Colour from speed: blue at rest through green to red at 10 m/s and beyond.
 pub fn speed_color(speed: f32) -> [f32; 3] {
     let t = (speed / 10.0).clamp(0.0, 1.0);
@@ -180,6 +200,31 @@ pub fn graph_color(color: u8) -> [f32; 4] {
     }
     let [r, g, b] = hsv(f32::from(color) * 0.618_034, 0.85, 1.0);
     [r, g, b, 1.0]
+}
+
+/// How dynamic bodies are coloured.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Coloring {
+    /// By body slot ([`dynamic_color`]).
+    #[default]
+    Id,
+    /// By speed ([`speed_color`]).
+    Speed,
+    /// By island ([`island_color`]); a body without one by slot.
+    Island,
+}
+
+impl Coloring {
+    /// The colouring the debug-draw settings ask for (islands before speed).
+    pub fn of(debug: &DebugDraw) -> Coloring {
+        if debug.islands {
+            Coloring::Island
+        } else if debug.color_by_speed {
+            Coloring::Speed
+        } else {
+            Coloring::Id
+        }
+    }
 }
 
 /// The CPU-side lists, refilled every frame (their capacity is kept).
@@ -206,20 +251,46 @@ impl Instances {
         self.lines.clear();
     }
 
-    /// One instance per body. `dim` darkens everything (0: no change).
-    pub fn add_bodies(&mut self, world: &World, color_by_speed: bool, dim: f32) {
-        for i in 0..world.body_count() {
-            let body = world.body(i);
-            let rgb = match body.kind {
-                BodyKind::Static => palette::STATIC,
-                BodyKind::Kinematic => palette::KINEMATIC,
-                BodyKind::Dynamic if color_by_speed => speed_color(body.linear_velocity.length()),
-                BodyKind::Dynamic => dynamic_color(i),
+    /// A body's fill colour (before dimming): by kind, dynamic ones by `coloring`, and a
+    /// sleeping one faded toward the background ([`asleep`]).
+    pub fn body_color(world: &World, index: usize, coloring: Coloring) -> [f32; 3] {
+        let body = world.body(index);
+        let rgb = match body.kind {
+            BodyKind::Static => palette::STATIC,
+            BodyKind::Kinematic => palette::KINEMATIC,
+            BodyKind::Dynamic => match coloring {
+                Coloring::Speed => speed_color(body.linear_velocity.length()),
+                Coloring::Island => world
+                    .island_of(index)
+                    .map_or_else(|| dynamic_color(index), island_color),
+                Coloring::Id => dynamic_color(index),
+            },
+        };
+        if body.kind == BodyKind::Dynamic && !body.awake {
+            asleep(rgb)
+        } else {
+            rgb
+        }
+    }
+
+    /// One instance per shape of every live body, at the shape's own pose, in shape order
+    /// (the order [`World::body_at`] picks from, so the body on top is the one grabbed).
+    /// `dim` darkens everything (0: no change).
+    pub fn add_bodies(&mut self, world: &World, coloring: Coloring, dim: f32) {
+        // A body's shapes are mostly neighbours: its colour is worked out once per run.
+        let mut last: Option<(usize, [f32; 4])> = None;
+        for view in world.shapes() {
+            let color = match last {
+                Some((body, color)) if body == view.body => color,
+                _ => {
+                    let color = with_dim(Self::body_color(world, view.body, coloring), dim);
+                    last = Some((view.body, color));
+                    color
+                }
             };
-            let color = with_dim(rgb, dim);
-            let center = body.position.to_array();
-            let rotation = [body.rotation.c, body.rotation.s];
-            match world.shape(i) {
+            let center = view.transform.p.to_array();
+            let rotation = [view.transform.q.c, view.transform.q.s];
+            match view.shape {
                 Shape::Circle(c) => self.circles.push(CircleInstance {
                     center,
                     rotation,
@@ -323,9 +394,9 @@ impl Instances {
     pub fn add_debug(&mut self, world: &World, debug: &DebugDraw, camera: &Camera) {
         let px = 1.0 / camera.pixels_per_metre;
         if debug.aabbs {
-            for i in 0..world.body_count() {
-                let b = world.fat_aabb(i);
-                let c = match world.body(i).kind {
+            // Both walk the live shapes in slot order.
+            for (view, b) in world.shapes().zip(world.fat_aabbs()) {
+                let c = match world.body(view.body).kind {
                     BodyKind::Static => [0.5, 0.7, 0.5, 0.6],
                     BodyKind::Kinematic => [0.7, 0.6, 1.0, 0.6],
                     BodyKind::Dynamic => [0.9, 0.4, 0.9, 0.6],
@@ -382,7 +453,7 @@ impl Instances {
             let len = 10.0 * px;
             for i in 0..world.body_count() {
                 let b = world.body(i);
-                if b.kind == BodyKind::Static {
+                if !world.is_body(i) || b.kind == BodyKind::Static {
                     continue;
                 }
                 let x = b.rotation.apply(Vec2::X) * len;
@@ -395,7 +466,7 @@ impl Instances {
 
     /// The held body's spring: a line from its anchor to the pointer.
     pub fn add_drag(&mut self, world: &World, drag: &crate::sim::Drag, camera: &Camera) {
-        if drag.body >= world.body_count() {
+        if drag.body >= world.body_count() || !world.is_body(drag.body) {
             return;
         }
         let b = world.body(drag.body);
@@ -434,12 +505,158 @@ mod tests {
         }
     }
 
+    /// One dynamic body of two parts, a box and a disc on either side of its origin, turned.
+    fn compound_world() -> World {
+        let mut scene = tumble_physics::SceneDef::new("compound");
+        let parts = vec![
+            tumble_physics::PartDef::new(tumble_physics::ShapeDef::Box {
+                half_extents: [0.5, 0.25],
+            })
+            .at(1.0, 0.0, 0.3),
+            tumble_physics::PartDef::new(tumble_physics::ShapeDef::Circle { radius: 0.4 })
+                .at(-1.5, 0.5, 0.0),
+        ];
+        scene.push(
+            tumble_physics::BodyDef::compound(parts)
+                .at(3.0, 2.0)
+                .angle(0.7),
+        );
+        crate::sim::build_world(&scene).unwrap()
+    }
+
+    #[test]
+    fn every_shape_of_a_compound_body_is_drawn_at_its_own_pose() {
+        let world = compound_world();
+        assert_eq!(world.body_count(), 1);
+        let mut inst = Instances::default();
+        inst.add_bodies(&world, Coloring::Id, 0.0);
+        assert_eq!((inst.circles.len(), inst.polygons.len()), (1, 1));
+        let shapes: Vec<_> = world.body_shapes(0).collect();
+        assert_eq!(shapes.len(), 2);
+        let body = world.body(0);
+        for view in shapes {
+            let (center, rotation) = match view.shape {
+                Shape::Circle(_) => (inst.circles[0].center, inst.circles[0].rotation),
+                Shape::Polygon(_) => (inst.polygons[0].center, inst.polygons[0].rotation),
+            };
+            assert_eq!(center, view.transform.p.to_array());
+            assert_eq!(rotation, [view.transform.q.c, view.transform.q.s]);
+            // Not at the body's pose: each part is off the centre of mass.
+            assert!((view.transform.p - body.position).length() > 0.5);
+        }
+        // The box part is turned 0.3 rad more than its body.
+        let q = inst.polygons[0].rotation;
+        assert!((q[1].atan2(q[0]) - 1.0).abs() < 1e-5, "{q:?}");
+        // Both parts have the body's colour.
+        assert_eq!(inst.circles[0].color, inst.polygons[0].color);
+    }
+
+    #[test]
+    fn removed_bodies_are_not_drawn() {
+        let scene = tumble_scene::builtin::build("falling_circles").unwrap();
+        let mut world = crate::sim::build_world(&scene).unwrap();
+        let n = world.body_count();
+        let circle = (0..n)
+            .rev()
+            .find(|&i| matches!(world.shape(i), Shape::Circle(_)))
+            .unwrap();
+        let at = world.body(circle).position;
+        world.destroy_body(world.body_id(circle).unwrap()).unwrap();
+        let mut inst = Instances::default();
+        inst.add_bodies(&world, Coloring::Id, 0.0);
+        assert_eq!(inst.circles.len() + inst.polygons.len(), n - 1);
+        assert!(inst.circles.iter().all(|c| c.center != at.to_array()));
+        let mut shared = crate::state::Shared::new(
+            crate::settings::Settings::default(),
+            Vec2::new(800.0, 600.0),
+        );
+        shared.settings.debug.aabbs = true;
+        shared.settings.debug.center_of_mass = true;
+        let camera = Camera::new(Vec2::ZERO, 20.0, Vec2::new(800.0, 600.0));
+        inst.add_debug(&world, &shared.settings.debug, &camera);
+        // A box (4 lines, 8 vertices) per live shape, axes (2 lines) per moving body.
+        let moving = (0..n)
+            .filter(|&i| world.is_body(i) && world.body(i).kind != BodyKind::Static)
+            .count();
+        assert_eq!(inst.lines.len(), 8 * (n - 1) + 4 * moving);
+    }
+
+    fn sleep_scene(awake: bool) -> World {
+        let mut scene = tumble_physics::SceneDef::new("sleepy");
+        scene.sleep = true;
+        scene.push(
+            tumble_physics::BodyDef::new(tumble_physics::ShapeDef::Circle { radius: 0.5 })
+                .at(0.0, 3.0)
+                .awake(awake),
+        );
+        crate::sim::build_world(&scene).unwrap()
+    }
+
+    #[test]
+    fn a_sleeping_body_is_drawn_faded() {
+        let (awake, asleep_world) = (sleep_scene(true), sleep_scene(false));
+        assert!(awake.is_awake(0));
+        assert!(!asleep_world.is_awake(0));
+        let color = |world: &World| {
+            let mut inst = Instances::default();
+            inst.add_bodies(world, Coloring::Id, 0.0);
+            inst.circles[0].color
+        };
+        let (lit, faded) = (color(&awake), color(&asleep_world));
+        assert_ne!(lit, faded);
+        assert_eq!(lit, with_dim(dynamic_color(0), 0.0));
+        assert_eq!(faded, with_dim(asleep(dynamic_color(0)), 0.0));
+        // Halfway to the background.
+        for k in 0..3 {
+            let mid = (lit[k] + palette::BACKGROUND[k]) / 2.0;
+            assert!((faded[k] - mid).abs() < 1e-6, "{faded:?}");
+        }
+        // Static bodies never count as awake, and are not faded.
+        let mut statics = tumble_physics::SceneDef::new("ground");
+        statics.push(
+            tumble_physics::BodyDef::new(tumble_physics::ShapeDef::Circle { radius: 1.0 })
+                .kind(BodyKind::Static),
+        );
+        let ground = crate::sim::build_world(&statics).unwrap();
+        assert_eq!(color(&ground), with_dim(palette::STATIC, 0.0));
+    }
+
+    #[test]
+    fn islands_colour_dynamic_bodies_by_island() {
+        let mut scene = tumble_physics::SceneDef::new("apart");
+        for x in [-5.0, 5.0] {
+            scene.push(
+                tumble_physics::BodyDef::new(tumble_physics::ShapeDef::Circle { radius: 0.5 })
+                    .at(x, 0.0),
+            );
+        }
+        scene.gravity = [0.0, 0.0];
+        let mut world = crate::sim::build_world(&scene).unwrap();
+        world.step(scene.dt, scene.substeps);
+        let (a, b) = (world.island_of(0), world.island_of(1));
+        let (Some(a), Some(b)) = (a, b) else {
+            panic!("dynamic bodies without islands: {a:?} {b:?}");
+        };
+        assert_ne!(a, b);
+        let mut inst = Instances::default();
+        inst.add_bodies(&world, Coloring::Island, 0.0);
+        assert_eq!(inst.circles[0].color, with_dim(island_color(a), 0.0));
+        assert_eq!(inst.circles[1].color, with_dim(island_color(b), 0.0));
+        assert_ne!(inst.circles[0].color, inst.circles[1].color);
+        let debug = DebugDraw {
+            islands: true,
+            color_by_speed: true,
+            ..DebugDraw::default()
+        };
+        assert_eq!(Coloring::of(&debug), Coloring::Island);
+    }
+
     #[test]
     fn one_instance_per_body_by_shape_kind() {
         let scene = tumble_scene::builtin::build("falling_circles").unwrap();
         let world = crate::sim::build_world(&scene).unwrap();
         let mut inst = Instances::default();
-        inst.add_bodies(&world, false, 0.0);
+        inst.add_bodies(&world, Coloring::Id, 0.0);
         assert_eq!(inst.circles.len() + inst.polygons.len(), world.body_count());
         assert!(!inst.circles.is_empty() && !inst.polygons.is_empty());
         for p in &inst.polygons {

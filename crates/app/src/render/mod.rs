@@ -9,7 +9,7 @@ use anyhow::{Context, Result, anyhow, bail};
 use bytemuck::{Pod, Zeroable};
 
 use instances::palette;
-pub use instances::{Instances, hsv};
+pub use instances::{Coloring, Instances, hsv};
 use pipeline::Pipelines;
 
 use crate::camera::Camera;
@@ -170,8 +170,12 @@ impl SceneRenderer {
                 self.instances.add_grid(&camera);
             }
             let world = &view.sim.world;
-            self.instances
-                .add_bodies(world, view.debug && debug.color_by_speed, view.dim);
+            let coloring = if view.debug {
+                Coloring::of(debug)
+            } else {
+                Coloring::Id
+            };
+            self.instances.add_bodies(world, coloring, view.dim);
             if view.debug {
                 self.instances.add_debug(world, debug, &camera);
                 if let Some(drag) = &view.sim.drag {

@@ -1,6 +1,7 @@
 //! The simulation state: the world stepping on its fixed clock, drawn through a camera the
-//! user pans (right drag) and zooms (wheel), with a mouse spring on the left button and the
-//! control and profile panels.
+//! user pans (right drag) and zooms (wheel), with a mouse spring on the left button, keys
+//! that drop and remove bodies at the pointer (B, N, X / Delete), and the control and
+//! profile panels.
 
 use glam::Vec2;
 
@@ -9,6 +10,7 @@ use crate::camera::{Camera, world_bounds};
 use crate::input::{Button, InputEvent, Key};
 use crate::sim::{SavedWorld, Sim};
 use crate::ui::profiler::Sweep;
+use tumble_physics::BodyKind;
 
 /// The simulation state.
 pub struct Simulation {
@@ -20,6 +22,9 @@ pub struct Simulation {
     pub(crate) fit_frames: u8,
     /// Right-button panning in progress.
     pub(crate) panning: bool,
+    /// Where the pointer was last seen over the world (physical pixels), for the keys that
+    /// drop and remove bodies there.
+    pub(crate) pointer: Option<Vec2>,
     /// The thread sweep (runs on its own thread).
     pub(crate) sweep: Sweep,
     /// The scenes the panel's picker offers.
@@ -42,6 +47,7 @@ impl Simulation {
             camera: Camera::new(Vec2::ZERO, 20.0, shared.viewport),
             fit_frames: 2,
             panning: false,
+            pointer: None,
             sweep: Sweep::default(),
             entries: super::main_menu::scene_entries(),
             error: None,
@@ -116,6 +122,33 @@ impl Simulation {
         self.sim.running = false;
         self.sim.single_step();
     }
+
+    /// B, N, X and Delete: drops a box or a ball at the pointer, or removes the body under
+    /// it (not a static one), through [`Sim::edit`] so the replay makes it again.
+    fn edit_at_pointer(&mut self, key: Key, shared: &mut Shared) {
+        let Some(pointer) = self.pointer else {
+            return;
+        };
+        let point = self.camera.screen_to_world(pointer);
+        let result = match key {
+            Key::B => self.sim.drop_box(point).map(|_| ()),
+            Key::N => self.sim.drop_ball(point).map(|_| ()),
+            _ => {
+                let on_static = self
+                    .sim
+                    .world
+                    .body_at(point)
+                    .is_some_and(|i| self.sim.world.body(i).kind == BodyKind::Static);
+                if on_static {
+                    shared.toast("Static bodies stay (X and Delete remove moving ones)");
+                }
+                self.sim.remove_at(point).map(|_| ())
+            }
+        };
+        if let Err(e) = result {
+            shared.toast(format!("{e:#}"));
+        }
+    }
 }
 
 #[cfg(not(target_arch = "wasm32"))]
@@ -159,22 +192,29 @@ impl State for Simulation {
                 Key::S => self.step_once(),
                 Key::R if !repeat => self.sim.restart(),
                 Key::F if !repeat => self.fit(shared),
+                Key::B | Key::N | Key::X | Key::Delete if !repeat => {
+                    self.edit_at_pointer(key, shared);
+                }
                 _ => {}
             },
             InputEvent::Button {
                 button,
                 pressed,
                 position,
-            } => match button {
-                Button::Left if pressed => {
-                    let point = self.camera.screen_to_world(position);
-                    self.sim.grab(point);
+            } => {
+                self.pointer = Some(position);
+                match button {
+                    Button::Left if pressed => {
+                        let point = self.camera.screen_to_world(position);
+                        self.sim.grab(point);
+                    }
+                    Button::Left => self.sim.drag = None,
+                    Button::Right | Button::Middle => self.panning = pressed,
+                    Button::Other => {}
                 }
-                Button::Left => self.sim.drag = None,
-                Button::Right | Button::Middle => self.panning = pressed,
-                Button::Other => {}
-            },
+            }
             InputEvent::PointerMoved { position, delta } => {
+                self.pointer = Some(position);
                 if self.panning {
                     self.camera.pan_pixels(delta);
                 }

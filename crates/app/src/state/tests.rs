@@ -208,6 +208,71 @@ fn pointer_over_a_panel_does_not_grab_bodies_but_releases_always_arrive() {
 }
 
 #[test]
+fn keys_drop_and_remove_bodies_at_the_pointer() {
+    let mut sh = shared();
+    let mut m = simulation(&sh);
+    m.update(0.0, &mut sh); // frames the scene
+    let (camera, bodies) = {
+        let View { sim, camera, .. } = m.view().expect("a view");
+        (*camera, sim.world.live_body_count())
+    };
+    let live = |m: &StateMachine| m.sim().unwrap().world.live_body_count();
+    let moved = |p: Vec2| InputEvent::PointerMoved {
+        position: camera.world_to_screen(p),
+        delta: Vec2::ZERO,
+    };
+    // No pointer seen yet: nothing happens.
+    m.input(press(Key::B), NO_EGUI, &mut sh);
+    assert_eq!(live(&m), bodies);
+    // Empty space above the pyramid.
+    let above = Vec2::new(-15.0, 25.0);
+    m.input(moved(above), NO_EGUI, &mut sh);
+    m.input(press(Key::B), NO_EGUI, &mut sh);
+    assert_eq!(live(&m), bodies + 1);
+    let world = &m.sim().unwrap().world;
+    let dropped = world.body_at(above).expect("the box is under the pointer");
+    assert!(matches!(
+        world.shape(dropped),
+        tumble_physics::Shape::Polygon(_)
+    ));
+    // A held key's repeats drop nothing more.
+    let repeat = InputEvent::Key {
+        key: Key::N,
+        pressed: true,
+        repeat: true,
+    };
+    m.input(moved(above + Vec2::new(3.0, 0.0)), NO_EGUI, &mut sh);
+    m.input(repeat, NO_EGUI, &mut sh);
+    assert_eq!(live(&m), bodies + 1);
+    m.input(press(Key::N), NO_EGUI, &mut sh);
+    assert_eq!(live(&m), bodies + 2);
+    let world = &m.sim().unwrap().world;
+    let ball = world.body_at(above + Vec2::new(3.0, 0.0)).unwrap();
+    assert!(matches!(
+        world.shape(ball),
+        tumble_physics::Shape::Circle(_)
+    ));
+    // X removes the box, Delete the ball.
+    m.input(moved(above), NO_EGUI, &mut sh);
+    m.input(press(Key::X), NO_EGUI, &mut sh);
+    assert_eq!(live(&m), bodies + 1);
+    assert!(!m.sim().unwrap().world.is_body(dropped));
+    m.input(moved(above + Vec2::new(3.0, 0.0)), NO_EGUI, &mut sh);
+    m.input(press(Key::Delete), NO_EGUI, &mut sh);
+    assert_eq!(live(&m), bodies);
+    // The ground stays, and says so.
+    assert!(sh.toast.is_none());
+    m.input(moved(Vec2::new(-40.0, -1.0)), NO_EGUI, &mut sh);
+    m.input(press(Key::X), NO_EGUI, &mut sh);
+    assert_eq!(live(&m), bodies);
+    assert!(sh.toast.as_ref().is_some_and(|(t, _)| t.contains("Static")));
+    // While a text field has the keyboard, the letters are typing.
+    m.input(moved(above), NO_EGUI, &mut sh);
+    assert_eq!(m.input(press(Key::B), EGUI_KEYBOARD, &mut sh), Routed::Egui);
+    assert_eq!(live(&m), bodies);
+}
+
+#[test]
 fn global_toggles_work_whatever_is_on_top() {
     let mut sh = shared();
     let mut m = StateMachine::new(Box::new(MainMenu::new(None)));

@@ -206,6 +206,8 @@ fn controls(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared, out: &m
         c[0].checkbox(&mut d.normals, "Normals");
         c[0].checkbox(&mut d.aabbs, "AABBs");
         c[0].checkbox(&mut d.tree, "Tree");
+        c[0].checkbox(&mut d.islands, "Islands")
+            .on_hover_text("Dynamic bodies coloured by their island (sleeping ones faded).");
         c[1].checkbox(&mut d.graph_colors, "Graph colours");
         c[1].checkbox(&mut d.center_of_mass, "Centres of mass");
         c[1].checkbox(&mut d.grid, "Grid");
@@ -230,8 +232,12 @@ fn controls(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared, out: &m
         };
         (name, RichText::new(text).monospace().color(colour))
     });
+    let world = &st.sim.world;
+    let (islands, awake_islands) = world.island_counts();
     let rows = [
-        ("bodies", st.sim.world.body_count().to_string()),
+        ("bodies", world.live_body_count().to_string()),
+        ("awake bodies", world.awake_body_count().to_string()),
+        ("islands", format!("{awake_islands} awake / {islands}")),
         (
             "contacts",
             format!("{} ({} touching)", p.contacts, p.touching),

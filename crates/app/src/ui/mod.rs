@@ -18,6 +18,12 @@ pub const KEYS: &[(&str, &str)] = &[
     ("S", "single step"),
     ("R", "restart the scene"),
     ("F", "fit the scene in view"),
+    ("B", "drop a 0.5 m box at the pointer"),
+    ("N", "drop a 0.25 m ball (radius) at the pointer"),
+    (
+        "X or Delete",
+        "remove the body under the pointer (not static ones)",
+    ),
     ("Left drag", "pull a body on a spring"),
     ("Right drag", "pan"),
     ("Wheel", "zoom at the pointer"),

@@ -267,6 +267,7 @@ impl Publisher {
         self.set("frames", num(s.frames as f64));
         self.set("steps", num(s.steps as f64));
         self.set("bodies", num(s.bodies as f64));
+        self.set("awake_bodies", num(s.awake_bodies as f64));
         self.set("threads", num(s.threads as f64));
         self.set("backend", JsValue::from_str(&s.backend));
         self.set("scene", JsValue::from_str(&s.scene));
