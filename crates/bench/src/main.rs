@@ -4,7 +4,8 @@
 //! and writes one JSON document (see CONTRACT.md, section 2). `tumble-bench sweep` times scenes
 //! against thread and body counts (table, CSV, SVG charts); `tumble-bench compare` (feature
 //! `peers`) times the same scenes in tumble, Box2D v3 and Rapier2D; `tumble-bench report` measures
-//! speed against error on the hard cases (docs/accuracy/REPORT.md). Each subcommand lives in its
+//! speed against error on the hard cases (docs/accuracy/REPORT.md); `tumble-bench schema`
+//! prints the JSON Schema of scene files (docs/scene.schema.json). Each subcommand lives in its
 //! own module; `main` only parses the command line and turns errors into a message and exit
 //! code 2 (1 for a soak that found a non-finite state).
 
@@ -15,6 +16,7 @@ mod plot;
 mod report;
 mod run;
 mod scenes;
+mod schema;
 mod soak;
 mod sweep;
 mod thresholds;
@@ -54,6 +56,9 @@ enum Command {
     /// stepped with every stage inline and with every stage split; writes a markdown table and
     /// the crossovers `WideThresholds::default()` is set from.
     Thresholds(thresholds::ThresholdsArgs),
+    /// Print the JSON Schema of scene files (draft 2020-12), for editors; docs/scene.schema.json
+    /// is its output.
+    Schema(schema::SchemaArgs),
 }
 
 fn main() -> ExitCode {
@@ -77,6 +82,7 @@ fn main() -> ExitCode {
         Command::Report(args) => report::run(&args),
         Command::Soak(args) => soak::run(&args),
         Command::Thresholds(args) => thresholds::run(&args),
+        Command::Schema(args) => schema::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -41,6 +41,8 @@ pub use id::{BodyId, ShapeId};
 pub use glam::Vec2;
 pub use math::{Rot, Transform};
 pub use profile::StepProfile;
+#[cfg(feature = "schema")]
+pub use scene::scene_schema;
 pub use scene::{
     BodyDef, BodyKind, Filter, Limits, MAX_POLYGON_VERTICES, MAX_SOLVER_PASSES, PartDef,
     ResolvedPart, SceneDef, ShapeDef, SolverDef,

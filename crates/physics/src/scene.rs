@@ -13,6 +13,7 @@ pub const MAX_POLYGON_VERTICES: usize = 8;
 
 /// How a body moves.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 pub enum BodyKind {
     /// Never moves; infinite mass.
     Static,
@@ -25,23 +26,27 @@ pub enum BodyKind {
 
 /// A body's collision shape, in the body's own frame.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub enum ShapeDef {
     /// A disc centred on the body.
     Circle {
         /// Radius in metres, > 0.
+        #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
         radius: f32,
     },
     /// A rectangle centred on the body.
     Box {
         /// Half width and half height in metres, both > 0.
         #[serde(deserialize_with = "pair::one")]
+        #[cfg_attr(feature = "schema", schemars(schema_with = "schema::positive_pair"))]
         half_extents: [f32; 2],
     },
     /// A convex polygon, counter-clockwise, 3 to 8 vertices, non-zero area.
     Polygon {
         /// Vertices in the body's frame; the loader recentres them on their centroid.
         #[serde(deserialize_with = "pair::list")]
+        #[cfg_attr(feature = "schema", schemars(schema_with = "schema::polygon"))]
         vertices: Vec<[f32; 2]>,
     },
 }
@@ -53,7 +58,9 @@ fn default_friction() -> f32 {
     0.6
 }
 /// A field that is `Some` when present, written without RON's `Some(..)`.
-fn present<'de, D: serde::Deserializer<'de>, T: Deserialize<'de>>(d: D) -> Result<Option<T>, D::Error> {
+fn present<'de, D: serde::Deserializer<'de>, T: Deserialize<'de>>(
+    d: D,
+) -> Result<Option<T>, D::Error> {
     T::deserialize(d).map(Some)
 }
 
@@ -77,6 +84,7 @@ fn is_one(x: &f32) -> bool {
 /// one's `category` meets the other's `mask`, except that two shapes of the same non-zero
 /// `group` always touch when it is positive and never when it is negative.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Filter {
     /// The categories this shape belongs to (bits).
@@ -126,6 +134,7 @@ impl Default for Filter {
 /// One shape of a body of several (`shapes`), placed in the body's frame. Only `shape` is
 /// required; the material and filter fields default to the body's.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct PartDef {
     /// The shape, in the part's frame (a polygon is not recentred: its vertices are where
@@ -133,18 +142,22 @@ pub struct PartDef {
     pub shape: ShapeDef,
     /// Where the part's frame sits in the body's frame (m).
     #[serde(default, deserialize_with = "pair::one")]
+    #[cfg_attr(feature = "schema", schemars(schema_with = "schema::pair"))]
     pub offset: [f32; 2],
     /// The part frame's angle in the body's frame (rad).
     #[serde(default)]
     pub angle: f32,
     /// Area density (kg/m²); the body's when absent.
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub density: Option<f32>,
     /// Friction; the body's when absent.
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub friction: Option<f32>,
     /// Restitution; the body's when absent.
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub restitution: Option<f32>,
     /// Filter; the body's when absent.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -152,6 +165,7 @@ pub struct PartDef {
     /// A sensor detects overlaps and never pushes anything. Sensor events are not built
     /// yet (issue 18): a sensor part today is a part that touches nothing.
     #[serde(default, skip_serializing_if = "is_false")]
+    #[cfg_attr(feature = "schema", schemars(extend("default" = false)))]
     pub sensor: bool,
 }
 
@@ -214,6 +228,8 @@ pub struct ResolvedPart<'a> {
 /// One body of a scene. Every field but the shape has a default (see CONTRACT.md); a body
 /// has exactly one of `shape` and `shapes`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
+#[cfg_attr(feature = "schema", schemars(transform = schema::shape_or_shapes))]
 #[serde(deny_unknown_fields)]
 pub struct BodyDef {
     /// Static, dynamic or kinematic.
@@ -222,12 +238,14 @@ pub struct BodyDef {
     /// With `shape`: the centre of mass in the world. With `shapes`: the body frame's origin
     /// (m).
     #[serde(default, deserialize_with = "pair::one")]
+    #[cfg_attr(feature = "schema", schemars(schema_with = "schema::pair"))]
     pub position: [f32; 2],
     /// Orientation (rad, counter-clockwise).
     #[serde(default)]
     pub angle: f32,
     /// Initial velocity of the centre of mass (m/s).
     #[serde(default, deserialize_with = "pair::one")]
+    #[cfg_attr(feature = "schema", schemars(schema_with = "schema::pair"))]
     pub linear_velocity: [f32; 2],
     /// Initial angular velocity (rad/s).
     #[serde(default)]
@@ -238,43 +256,55 @@ pub struct BodyDef {
         skip_serializing_if = "Option::is_none",
         deserialize_with = "present"
     )]
+    #[cfg_attr(feature = "schema", schemars(with = "ShapeDef"))]
     pub shape: Option<ShapeDef>,
     /// Several shapes fixed to the body, instead of `shape`.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    #[cfg_attr(feature = "schema", schemars(extend("default" = [])))]
     pub shapes: Vec<PartDef>,
     /// Area density (kg/m²), > 0 for a dynamic body.
     #[serde(default = "default_density")]
+    #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub density: f32,
     /// Coulomb friction coefficient, >= 0; pairs mix as `sqrt(a * b)`.
     #[serde(default = "default_friction")]
+    #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub friction: f32,
     /// Coefficient of restitution, >= 0; pairs mix as `max(a, b)`.
     #[serde(default)]
+    #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub restitution: f32,
     /// Linear damping per second of simulated time.
     #[serde(default)]
+    #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub linear_damping: f32,
     /// Angular damping per second of simulated time.
     #[serde(default)]
+    #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub angular_damping: f32,
     /// Whether the body may not rotate.
     #[serde(default)]
     pub fixed_rotation: bool,
     /// `false`: the body starts asleep (when the scene's `sleep` is on).
     #[serde(default = "yes", skip_serializing_if = "is_true")]
+    #[cfg_attr(feature = "schema", schemars(extend("default" = true)))]
     pub awake: bool,
     /// `false`: this body never sleeps, nor does its island.
     #[serde(default = "yes", skip_serializing_if = "is_true")]
+    #[cfg_attr(feature = "schema", schemars(extend("default" = true)))]
     pub enable_sleep: bool,
     /// A dynamic body that never passes through other dynamic bodies either. Continuous
     /// collision is not built yet (issue 18): accepted and kept.
     #[serde(default, skip_serializing_if = "is_false")]
+    #[cfg_attr(feature = "schema", schemars(extend("default" = false)))]
     pub bullet: bool,
     /// Multiplies gravity for this body.
     #[serde(default = "one", skip_serializing_if = "is_one")]
+    #[cfg_attr(feature = "schema", schemars(extend("default" = 1.0)))]
     pub gravity_scale: f32,
     /// Which shapes this body's shapes touch (each part may override it).
     #[serde(default, skip_serializing_if = "Filter::is_default")]
+    #[cfg_attr(feature = "schema", schemars(extend("default" = { "category": 1, "mask": u64::MAX, "group": 0 })))]
     pub filter: Filter,
 }
 
@@ -433,6 +463,8 @@ fn default_steps() -> u32 {
 
 /// A scene: world settings and bodies, in order (a body's index is its id).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
+#[cfg_attr(feature = "schema", schemars(title = "tumble scene"))]
 #[serde(deny_unknown_fields)]
 pub struct SceneDef {
     /// Shown in the UI and in reports; the loader fills in the file's stem when absent.
@@ -440,12 +472,15 @@ pub struct SceneDef {
     pub name: String,
     /// Gravity (m/s²).
     #[serde(default = "default_gravity", deserialize_with = "pair::one")]
+    #[cfg_attr(feature = "schema", schemars(schema_with = "schema::pair"))]
     pub gravity: [f32; 2],
     /// Seconds per step, > 0.
     #[serde(default = "default_dt")]
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub dt: f32,
     /// Solver substeps per step, >= 1.
     #[serde(default = "default_substeps")]
+    #[cfg_attr(feature = "schema", schemars(range(min = 1)))]
     pub substeps: u32,
     /// Length of a headless run when the runner is not told otherwise.
     #[serde(default = "default_steps")]
@@ -455,15 +490,18 @@ pub struct SceneDef {
     /// The solver knobs this scene needs, where it needs other than the engine's defaults
     /// (CONTRACT.md section 5, `solver`).
     #[serde(default, skip_serializing_if = "SolverDef::is_empty")]
+    #[cfg_attr(feature = "schema", schemars(extend("default" = {})))]
     pub solver: SolverDef,
     /// Bodies that rest fall asleep with their island and cost nothing until woken.
     #[serde(default = "yes")]
     pub sleep: bool,
     /// Continuous collision (not built yet, issue 18): accepted and kept.
     #[serde(default = "yes", skip_serializing_if = "is_true")]
+    #[cfg_attr(feature = "schema", schemars(extend("default" = true)))]
     pub continuous: bool,
     /// Approach speed of a `hit` event (m/s; events are issue 18): accepted and kept.
     #[serde(default = "one", skip_serializing_if = "is_one")]
+    #[cfg_attr(feature = "schema", schemars(extend("default" = 1.0)))]
     pub hit_speed: f32,
 }
 
@@ -471,37 +509,48 @@ pub struct SceneDef {
 /// (Box2D v3's). The joint fields are accepted, validated and kept for the joints that will
 /// read them.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
 pub struct SolverDef {
     /// Contact stiffness (Hz, > 0; default 30); contacts against static bodies get twice it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub contact_hertz: Option<f32>,
     /// Damping ratio of the contact spring (>= 0; default 10).
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub contact_damping_ratio: Option<f32>,
     /// Rigid relax passes per substep (1 to 64; default 1). Friction is solved in them.
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "schema", schemars(range(min = 1, max = MAX_SOLVER_PASSES)))]
     pub relax_iterations: Option<u32>,
     /// Approach speed below which nothing bounces (m/s, >= 0; default 1).
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub restitution_threshold: Option<f32>,
     /// Restitution passes at the end of a step (1 to 64; default 1).
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "schema", schemars(range(min = 1, max = MAX_SOLVER_PASSES)))]
     pub restitution_iterations: Option<u32>,
     /// Fastest that overlap is pushed apart (m/s, > 0; default 3).
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub max_push_speed: Option<f32>,
     /// Joint stiffness (Hz, >= 0; default 60). Kept for joints.
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub joint_hertz: Option<f32>,
     /// Joint damping ratio (>= 0; default 2). Kept for joints.
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub joint_damping_ratio: Option<f32>,
     /// Speed below which a body counts as resting (m/s, >= 0; default 0.05).
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub sleep_threshold: Option<f32>,
     /// How long an island rests before it sleeps (s, >= 0; default 0.5).
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub time_to_sleep: Option<f32>,
 }
 
@@ -789,6 +838,125 @@ mod pair {
     }
 }
 
+/// The JSON Schema (draft 2020-12) of a scene file: what [`SceneDef`]'s loader accepts, with
+/// each field's default and description, and the ranges [`SceneDef::validate`] checks where a
+/// schema can say them simply. `tumble-bench schema` prints it; docs/scene.schema.json is it.
+#[cfg(feature = "schema")]
+pub fn scene_schema() -> schemars::Schema {
+    let mut schema = schemars::schema_for!(SceneDef);
+    if let Some(object) = schema.as_object_mut() {
+        for value in object.values_mut() {
+            schema::short_defaults(value, false);
+        }
+    }
+    schema
+}
+
+/// What the loader's own deserializers (`pair`, `present`) accept, for `schemars`.
+#[cfg(feature = "schema")]
+mod schema {
+    use std::borrow::Cow;
+
+    use schemars::{JsonSchema, Schema, SchemaGenerator, json_schema};
+    use serde_json::json;
+
+    use super::MAX_POLYGON_VERTICES;
+
+    /// `pair::one`: `[x, y]`, a list of exactly two numbers (one `$defs` entry, `Pair`).
+    struct Pair;
+
+    impl JsonSchema for Pair {
+        fn schema_name() -> Cow<'static, str> {
+            "Pair".into()
+        }
+
+        fn json_schema(_: &mut SchemaGenerator) -> Schema {
+            json_schema!({
+                "description": "`[x, y]`: a list of exactly two numbers.",
+                "type": "array",
+                "items": { "type": "number" },
+                "minItems": 2,
+                "maxItems": 2
+            })
+        }
+    }
+
+    /// A field read by `pair::one`.
+    pub fn pair(generator: &mut SchemaGenerator) -> Schema {
+        generator.subschema_for::<Pair>()
+    }
+
+    /// A box's half extents: a pair of numbers > 0.
+    pub fn positive_pair(_: &mut SchemaGenerator) -> Schema {
+        json_schema!({
+            "type": "array",
+            "items": { "type": "number", "exclusiveMinimum": 0 },
+            "minItems": 2,
+            "maxItems": 2
+        })
+    }
+
+    /// A polygon's vertices (`pair::list`): 3 to 8 pairs.
+    pub fn polygon(generator: &mut SchemaGenerator) -> Schema {
+        json_schema!({
+            "type": "array",
+            "items": pair(generator),
+            "minItems": 3,
+            "maxItems": MAX_POLYGON_VERTICES
+        })
+    }
+
+    /// Writes each number in a `default` as its `f32`'s shortest form (`0.016666668`, not
+    /// the `0.01666666753590107` that widening it to `f64` gives), so it reads back to the
+    /// same `f32`.
+    pub fn short_defaults(value: &mut serde_json::Value, in_default: bool) {
+        use serde_json::Value;
+        match value {
+            Value::Number(n) if in_default => {
+                if let Some(x) = n.as_f64().filter(|_| n.is_f64()) {
+                    let single = x as f32;
+                    if f64::from(single) == x
+                        && let Ok(short) = single.to_string().parse::<f64>()
+                        && let Some(short) = serde_json::Number::from_f64(short)
+                    {
+                        *n = short;
+                    }
+                }
+            }
+            Value::Array(items) => {
+                for item in items {
+                    short_defaults(item, in_default);
+                }
+            }
+            Value::Object(map) => {
+                for (key, item) in map.iter_mut() {
+                    short_defaults(item, in_default || key == "default");
+                }
+            }
+            _ => {}
+        }
+    }
+
+    /// A body has exactly one of `shape` and a non-empty `shapes` (an empty `shapes` beside
+    /// `shape` is allowed, as the loader allows it).
+    pub fn shape_or_shapes(schema: &mut Schema) {
+        schema.insert(
+            "oneOf".into(),
+            json!([
+                {
+                    "required": ["shape"],
+                    "properties": { "shapes": { "maxItems": 0 } }
+                },
+                {
+                    "required": ["shapes"],
+                    "not": { "required": ["shape"] },
+                    "properties": { "shapes": { "minItems": 1 } }
+                }
+            ]),
+        );
+    }
+}
+
 fn finite2(v: [f32; 2]) -> bool {
     v[0].is_finite() && v[1].is_finite()
 }
@@ -891,7 +1059,11 @@ fn validate_body(index: usize, body: &BodyDef) -> Result<(), SceneError> {
                 ));
             }
             if !part.angle.is_finite() {
-                return Err(err(&field("angle"), part.angle.to_string(), "a finite number"));
+                return Err(err(
+                    &field("angle"),
+                    part.angle.to_string(),
+                    "a finite number",
+                ));
             }
             for (name, v) in [
                 ("density", part.density),
