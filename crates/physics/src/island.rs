@@ -32,6 +32,9 @@ pub struct Islands {
     free: Vec<u32>,
     /// Each body's island (`NO_ISLAND` when it has none).
     pub of_body: Vec<u32>,
+    /// Islands in use that are awake (kept by every method that changes one's sleep).
+    #[serde(skip)]
+    awake: usize,
 }
 
 impl Islands {
@@ -49,6 +52,7 @@ impl Islands {
             constraints_removed: 0,
             awake,
         };
+        self.awake += usize::from(awake);
         let k = match self.free.pop() {
             Some(k) => {
                 self.islands[k as usize] = island;
@@ -65,6 +69,7 @@ impl Islands {
     }
 
     fn release(&mut self, k: u32) {
+        self.awake -= usize::from(self.islands[k as usize].awake);
         self.islands[k as usize] = Island::default();
         let at = self.free.partition_point(|&f| f > k);
         self.free.insert(at, k);
@@ -77,10 +82,29 @@ impl Islands {
 
     /// Islands in use that are awake.
     pub fn awake_count(&self) -> usize {
-        self.islands
+        self.awake
+    }
+
+    /// Wakes island `k` or puts it to sleep (its bodies are the caller's to change).
+    pub fn set_awake(&mut self, k: u32, awake: bool) {
+        let island = &mut self.islands[k as usize];
+        if island.awake != awake {
+            island.awake = awake;
+            if awake {
+                self.awake += 1;
+            } else {
+                self.awake -= 1;
+            }
+        }
+    }
+
+    /// Recounts the awake islands (after a snapshot was read).
+    pub fn recount(&mut self) {
+        self.awake = self
+            .islands
             .iter()
             .filter(|i| i.awake && !i.bodies.is_empty())
-            .count()
+            .count();
     }
 
     /// Joins the islands of two bodies (a contact between them began touching): the smaller
@@ -214,8 +238,14 @@ impl Islands {
         out
     }
 
-    /// Checks that each body's island lists it and each island lists only its own bodies.
+    /// Checks that each body's island lists it once, each island lists only its own bodies,
+    /// and the free slots are exactly the empty islands.
     pub fn check(&self) -> Result<(), String> {
+        let mut listed = vec![false; self.of_body.len()];
+        let mut free = vec![false; self.islands.len()];
+        for &k in &self.free {
+            free[k as usize] = true;
+        }
         for (k, island) in self.islands.iter().enumerate() {
             for &b in &island.bodies {
                 if self.of_body.get(b as usize) != Some(&(k as u32)) {
@@ -223,15 +253,27 @@ impl Islands {
                         "island {k} lists body {b}, whose island is another"
                     ));
                 }
+                if std::mem::replace(&mut listed[b as usize], true) {
+                    return Err(format!("body {b} is listed twice"));
+                }
+            }
+            if free[k] != island.bodies.is_empty() {
+                return Err(format!("island {k} is free and has bodies, or neither"));
             }
         }
+        let awake = self
+            .islands
+            .iter()
+            .filter(|i| i.awake && !i.bodies.is_empty())
+            .count();
+        if awake != self.awake {
+            return Err(format!(
+                "{} awake islands counted, {awake} found",
+                self.awake
+            ));
+        }
         for (b, &k) in self.of_body.iter().enumerate() {
-            if k != NO_ISLAND
-                && !self
-                    .islands
-                    .get(k as usize)
-                    .is_some_and(|i| i.bodies.contains(&(b as u32)))
-            {
+            if k != NO_ISLAND && !listed[b] {
                 return Err(format!("body {b} is in island {k}, which does not list it"));
             }
         }

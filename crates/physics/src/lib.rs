@@ -37,8 +37,8 @@ mod world;
 
 pub use body::BodyMass;
 pub use error::{PolygonError, SceneError, SettingsError};
-pub use id::{BodyId, ShapeId};
 pub use glam::Vec2;
+pub use id::{BodyId, ShapeId};
 pub use math::{Rot, Transform};
 pub use profile::StepProfile;
 #[cfg(feature = "schema")]
@@ -49,8 +49,8 @@ pub use scene::{
 };
 pub use shape::{Aabb, Circle, MassData, Polygon, Shape};
 pub use world::{
-    BodyView, ContactView, ShapeView, SpawnWorker, StepSettings, WideThresholds, World,
-    WorldError, WorldSnapshot, default_thread_count, set_thread_source,
+    BodyView, ContactView, ShapeView, SpawnWorker, StepSettings, WideThresholds, World, WorldError,
+    WorldSnapshot, default_thread_count, set_thread_source,
 };
 
 /// Length tolerance used by collision (Box2D's `B2_LINEAR_SLOP`, 5 mm).

@@ -933,15 +933,18 @@ fn junkyard() -> SceneDef {
     scene
 }
 
+/// The junkyard's pusher: after the trough and the 200 x 40 pentagons.
+const JUNKYARD_PUSHER: usize = 1 + 200 * 40;
+
 /// Box2D `StepJunkyard`: the pusher's target is x = 60 sin(0.2 t), reached in one step.
 fn junkyard_step(steps: u64, world: &mut tumble_physics::World) {
     let dt = 1.0 / 60.0;
     let t = dt * steps as f32;
     let x = 60.0 * (0.2 * t).sin();
-    if let Some(pusher) = world.body_id(world.body_count() - 1) {
-        // The pusher exists in a world built from this scene; a refusal is impossible.
-        let _ = world.set_target_transform(pusher, tumble_physics::Vec2::new(x, 0.0), 0.0, dt);
-    }
+    // The scene's pusher, by its scene id: once it is destroyed (in the viewer) the id is
+    // stale and the call refused, so no body that took its slot is driven instead.
+    let pusher = tumble_physics::BodyId::scene(JUNKYARD_PUSHER);
+    let _ = world.set_target_transform(pusher, tumble_physics::Vec2::new(x, 0.0), 0.0, dt);
 }
 
 /// Box2D `CreateTumbler`: a 45 x 45 grid of 0.125 half-size boxes, 0.4 m apart, inside a

@@ -411,7 +411,9 @@ impl World {
             },
             other => other,
         })?;
-        Ok(self.insert_body(def, index))
+        let id = self.insert_body(def, index);
+        self.debug_validate();
+        Ok(id)
     }
 
     /// Builds a validated body into the stores.
@@ -543,6 +545,15 @@ impl World {
         self.proxies_changed = true;
         self.tree_dirty = true;
         ShapeId { index, generation }
+    }
+
+    /// In debug builds, checks every invariant between the stores after an API change
+    /// (an internal bug, not bad input, if it fails).
+    fn debug_validate(&self) {
+        #[cfg(debug_assertions)]
+        if let Err(e) = self.validate() {
+            panic!("tumble: the world's stores disagree after a change: {e}");
+        }
     }
 
     /// The shapes of body `i`, in part order.
@@ -862,7 +873,11 @@ impl World {
             },
             body: r.body as usize,
             shape: &self.shapes[s],
-            transform: if r.offset { xf.compose(r.from_center) } else { xf },
+            transform: if r.offset {
+                xf.compose(r.from_center)
+            } else {
+                xf
+            },
             part: r.part as usize,
             sensor: r.sensor,
         }
@@ -968,6 +983,7 @@ impl World {
         }
         self.wake_body(i as u32);
         self.refresh_shape_boxes(i as u32);
+        self.debug_validate();
         Ok(())
     }
 
@@ -1056,6 +1072,7 @@ impl World {
         // static bodies) go, and new ones are found from its moved proxies.
         self.remove_contacts_of(i as u32);
         self.refresh_shape_boxes(i as u32);
+        self.debug_validate();
         Ok(())
     }
 
@@ -1080,6 +1097,7 @@ impl World {
         self.solver_bodies[i] = SolverBody::default();
         self.refresh_motion(i as u32);
         self.body_slots.release(i as u32);
+        self.debug_validate();
         Ok(())
     }
 
@@ -1107,6 +1125,7 @@ impl World {
         self.wake_body(i as u32);
         self.update_mass(i as u32);
         self.refresh_shape_boxes(i as u32);
+        self.debug_validate();
         Ok(id)
     }
 
@@ -1147,6 +1166,7 @@ impl World {
         self.islands.unlink(body, body);
         self.update_mass(body);
         self.refresh_shape_boxes(body);
+        self.debug_validate();
         Ok(())
     }
 

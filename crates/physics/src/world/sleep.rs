@@ -142,7 +142,7 @@ impl World {
             return;
         }
         for k in sleepy {
-            self.islands.islands[k as usize].awake = false;
+            self.islands.set_awake(k, false);
             let bodies = std::mem::take(&mut self.islands.islands[k as usize].bodies);
             for &b in &bodies {
                 let i = b as usize;
@@ -183,7 +183,7 @@ impl World {
         if k == NO_ISLAND || self.islands.islands[k as usize].awake {
             return;
         }
-        self.islands.islands[k as usize].awake = true;
+        self.islands.set_awake(k, true);
         let bodies = std::mem::take(&mut self.islands.islands[k as usize].bodies);
         for &b in &bodies {
             self.awake[b as usize] = true;

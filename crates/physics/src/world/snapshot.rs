@@ -102,7 +102,7 @@ impl World {
     /// not agree (a corrupt or foreign file: lengths, contacts or shapes naming bodies it
     /// lacks, a broken island), or if its settings are out of range
     /// ([`StepSettings::validate`]).
-    pub fn from_snapshot(snapshot: WorldSnapshot) -> Result<World, SceneError> {
+    pub fn from_snapshot(mut snapshot: WorldSnapshot) -> Result<World, SceneError> {
         snapshot.settings.validate()?;
         let corrupt = |why: String| SceneError::Scene {
             field: "snapshot".into(),
@@ -170,6 +170,7 @@ impl World {
         {
             return Err(corrupt("an island names a body that does not exist".into()));
         }
+        snapshot.islands.recount();
         snapshot.islands.check().map_err(corrupt)?;
         let mut world = World::new(snapshot.settings);
         let mut moved_flags = vec![false; m];

@@ -161,9 +161,15 @@ impl World {
                 }
             }
         }
-        // Moved proxies.
+        // Moved proxies: the list holds exactly the flagged shapes, each once.
+        let mut listed = vec![false; self.moved_flags.len()];
+        for &m in &self.moved {
+            if std::mem::replace(&mut listed[m as usize], true) {
+                return Err(format!("shape {m} is on the moved list twice"));
+            }
+        }
         for (s, &f) in self.moved_flags.iter().enumerate() {
-            if f != self.moved.contains(&(s as u32)) {
+            if f != listed[s] {
                 return Err(format!(
                     "shape {s}'s moved flag disagrees with the moved list"
                 ));
