@@ -189,10 +189,17 @@ fn ron_renderings_are_faithful() {
             .unwrap_or_else(|e| panic!("{origin}: its JSON rendering does not load: {e}\n{doc:#}"));
         assert_eq!(from_json, from_ron, "{origin}: the JSON rendering differs");
         let bodies = doc["bodies"].as_array().expect("bodies is a list");
-        assert!(
-            bodies.iter().all(|b| b["shape"].is_object()),
-            "{origin}: a shape that is not {{\"Variant\": {{..}}}}"
-        );
+        // Each body's shape, or each of its parts' shapes.
+        let shapes = bodies.iter().flat_map(|b| match b["shapes"].as_array() {
+            Some(parts) => parts.iter().map(|p| &p["shape"]).collect::<Vec<_>>(),
+            None => vec![&b["shape"]],
+        });
+        for shape in shapes {
+            assert!(
+                shape.as_object().is_some_and(|o| o.len() == 1),
+                "{origin}: a shape that is not {{\"Variant\": {{..}}}}: {shape}"
+            );
+        }
         checked += 1;
     }
     assert!(checked > 0, "no .ron scene in assets/scenes/");

@@ -148,19 +148,35 @@ pub struct PartDef {
     #[serde(default)]
     pub angle: f32,
     /// Area density (kg/m²); the body's when absent.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "present"
+    )]
     #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub density: Option<f32>,
     /// Friction; the body's when absent.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "present"
+    )]
     #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub friction: Option<f32>,
     /// Restitution; the body's when absent.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "present"
+    )]
     #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub restitution: Option<f32>,
     /// Filter; the body's when absent.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "present"
+    )]
     pub filter: Option<Filter>,
     /// A sensor detects overlaps and never pushes anything. Sensor events are not built
     /// yet (issue 18): a sensor part today is a part that touches nothing.

@@ -547,6 +547,70 @@ mod tests {
         )
     }
 
+    #[test]
+    fn parts_filters_and_sleep_fields_load_and_bad_ones_name_the_part() {
+        // Good: two parts with their own material and filter, a body filter, sleep fields.
+        let text = one_body_ron(
+            "awake: false, enable_sleep: false, gravity_scale: 0.5, \
+             filter: (category: 2, mask: 5, group: -1), shapes: [\
+             (shape: Circle(radius: 0.5), offset: (1.0, 0.0), density: 2.0), \
+             (shape: Box(half_extents: [0.2, 0.3]), angle: 0.5, filter: (group: 3), sensor: true)]",
+        );
+        let scene = ron(&text, "parts.ron").expect("loads");
+        let body = &scene.bodies[1];
+        assert_eq!(body.shapes.len(), 2);
+        assert_eq!(body.shapes[0].density, Some(2.0));
+        assert_eq!(body.shapes[1].filter.map(|f| f.group), Some(3));
+        assert!(!body.awake && !body.enable_sleep && body.gravity_scale == 0.5);
+        assert!(scene.sleep, "a scene sleeps unless it says otherwise");
+        let parts = body.parts();
+        // A part without a filter takes the body's.
+        assert_eq!(parts[0].filter.category, 2);
+        assert!(parts[1].sensor);
+        // Bad: each names the file, the body and the part's field.
+        let bad = [
+            (
+                "shapes: [(shape: Circle(radius: 1.0)), (shape: Circle(radius: -2.0))]",
+                "shapes[1].shape.Circle.radius",
+            ),
+            (
+                "shapes: [(shape: Circle(radius: 1.0), offset: (inf, 0.0))]",
+                "shapes[0].offset",
+            ),
+            (
+                "shapes: [(shape: Circle(radius: 1.0), friction: -1.0)]",
+                "shapes[0].friction",
+            ),
+            (
+                "shape: Circle(radius: 1.0), shapes: [(shape: Circle(radius: 1.0))]",
+                "`shapes`",
+            ),
+            ("shapes: []", "`shape`"),
+            (
+                "shapes: [(shape: Circle(radius: 1.0), density: 0.0)]",
+                "`density`",
+            ),
+            (
+                "gravity_scale: NaN, shape: Circle(radius: 1.0)",
+                "`gravity_scale`",
+            ),
+        ];
+        for (fields, field) in bad {
+            expect_err(
+                ron(&one_body_ron(fields), "bad.ron"),
+                &["bad.ron", "body 1", field],
+            );
+        }
+        // A typo in a part's field lists the allowed ones.
+        expect_err(
+            ron(
+                &one_body_ron("shapes: [(shape: Circle(radius: 1.0), ofset: (1, 2))]"),
+                "typo.ron",
+            ),
+            &["typo.ron:", "ofset", "offset"],
+        );
+    }
+
     fn unique_temp(name: &str) -> std::path::PathBuf {
         use std::sync::atomic::{AtomicUsize, Ordering};
         static COUNTER: AtomicUsize = AtomicUsize::new(0);
