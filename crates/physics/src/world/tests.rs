@@ -1,5 +1,5 @@
 use super::*;
-use crate::scene::ShapeDef;
+use crate::scene::{BodyDef, ShapeDef};
 
 fn ball_on_ground() -> World {
     let mut w = World::new(StepSettings::default());

@@ -1,0 +1,624 @@
+//! Bodies and shapes: creating, destroying and changing them between steps, and the one place
+//! a body's mass data are computed and every copy of them refreshed.
+
+use glam::Vec2;
+
+use super::{
+    BodyRecord, BodySim, Contact, ContactKey, NONE, ShapeRecord, World, WorldError, pair_key, step,
+};
+use crate::AABB_MARGIN;
+use crate::body::{BodyMass, part_geometry};
+use crate::error::SceneError;
+use crate::id::{BodyId, ShapeId};
+use crate::math::{Rot, Transform};
+use crate::scene::{BodyDef, BodyKind, Limits, PartDef, SceneDef};
+use crate::shape::{Aabb, Shape};
+use crate::solver::contact_solver::BodyState;
+use crate::solver::{BodyMotion, SolverBody};
+
+impl World {
+    /// Adds a body, checked as a scene body would be, and returns its id. Kept under its
+    /// old name; see [`World::create_body`].
+    pub fn add_body(&mut self, def: &BodyDef) -> Result<usize, SceneError> {
+        self.create_body(def).map(|id| id.index as usize)
+    }
+
+    /// Creates a body (between steps), checked as a scene body would be (the error names
+    /// the slot it would have taken), and returns its id. It takes the lowest free slot.
+    pub fn create_body(&mut self, def: &BodyDef) -> Result<BodyId, SceneError> {
+        let index = self.body_slots.next_index() as usize;
+        let one = SceneDef {
+            bodies: vec![def.clone()],
+            ..SceneDef::new("")
+        };
+        one.validate(&Limits::default()).map_err(|e| match e {
+            SceneError::Body {
+                field,
+                value,
+                allowed,
+                ..
+            } => SceneError::Body {
+                index,
+                field,
+                value,
+                allowed,
+            },
+            other => other,
+        })?;
+        let id = self.insert_body(def, index);
+        self.debug_validate();
+        Ok(id)
+    }
+
+    /// Builds a validated body into the stores.
+    pub(super) fn insert_body(&mut self, def: &BodyDef, expected: usize) -> BodyId {
+        let (index, generation, new) = self.body_slots.take();
+        debug_assert_eq!(index as usize, expected);
+        let i = index as usize;
+        let xf = Transform {
+            p: Vec2::from(def.position),
+            q: Rot::from_angle(def.angle),
+        };
+        let sim = BodySim {
+            xf,
+            kind: def.kind,
+            inv_inertia: 0.0,
+            extent: 0.0,
+            margin: 0.0,
+            min_extent: 0.0,
+            fast: false,
+            sleep_time: 0.0,
+        };
+        let record = BodyRecord {
+            local_center: Vec2::ZERO,
+            first_shape: NONE,
+            parts: 0,
+            fixed_rotation: def.fixed_rotation,
+            linear_damping: def.linear_damping,
+            angular_damping: def.angular_damping,
+            gravity_scale: def.gravity_scale,
+            enable_sleep: def.enable_sleep,
+        };
+        let rotates = !(def.kind == BodyKind::Dynamic && def.fixed_rotation);
+        let state = BodyState {
+            v: Vec2::from(def.linear_velocity),
+            w: if rotates { def.angular_velocity } else { 0.0 },
+            ..BodyState::default()
+        };
+        if new {
+            self.sims.push(sim);
+            self.records.push(record);
+            self.states.push(state);
+            self.solver_bodies.push(SolverBody::default());
+            self.motion.push(BodyMotion::default());
+            self.awake.push(false);
+            self.guarded.push(false);
+        } else {
+            self.sims[i] = sim;
+            self.records[i] = record;
+            self.states[i] = state;
+            self.guarded[i] = false;
+        }
+        self.islands.grow(i + 1);
+        if def.kind == BodyKind::Kinematic {
+            self.kinematic_count += 1;
+        }
+        let parts = def.parts();
+        for part in &parts {
+            // Validation has checked every shape, so this cannot fail.
+            let Ok((shape, local)) = part_geometry(part) else {
+                continue;
+            };
+            self.insert_shape(index, shape, local, part);
+        }
+        self.records[i].parts = parts.len() as u32;
+        // A body of one shape: its position is its centre of mass (its one shape is centred
+        // there). A body of several: its position is its frame's origin, and `update_mass`
+        // moves the centre to where the parts put it.
+        self.update_mass(index);
+        let asleep = !def.awake && self.settings.enable_sleep && def.kind == BodyKind::Dynamic;
+        if def.kind == BodyKind::Dynamic {
+            self.islands.create(index, !asleep);
+        }
+        self.awake[i] = def.kind != BodyKind::Static && !asleep;
+        if asleep {
+            let st = &mut self.states[i];
+            st.v = Vec2::ZERO;
+            st.w = 0.0;
+        }
+        self.refresh_motion(index);
+        self.refresh_shape_boxes(index);
+        BodyId { index, generation }
+    }
+
+    /// Adds one shape to body `body`'s list (its first), with a fat box to come.
+    pub(super) fn insert_shape(
+        &mut self,
+        body: u32,
+        shape: Shape,
+        local: Transform,
+        part: &crate::scene::ResolvedPart<'_>,
+    ) -> ShapeId {
+        let (index, generation, new) = self.shape_slots.take();
+        let record = ShapeRecord {
+            body,
+            local,
+            from_center: local,
+            offset: local != Transform::IDENTITY,
+            density: part.density,
+            friction: part.friction,
+            restitution: part.restitution,
+            filter: part.filter,
+            sensor: part.sensor,
+            next: NONE,
+            part: self.records[body as usize].parts,
+        };
+        // Appended: a body's shapes are listed in part order.
+        match self.shapes_of_body(body as usize).last() {
+            None => self.records[body as usize].first_shape = index,
+            Some(last) => self.shape_records[last as usize].next = index,
+        }
+        let empty = Aabb {
+            min: Vec2::ZERO,
+            max: Vec2::ZERO,
+        };
+        let s = index as usize;
+        if new {
+            self.shapes.push(shape);
+            self.shape_records.push(record);
+            self.shape_body.push(body);
+            self.fat_aabbs.push(empty);
+            self.moved_flags.push(false);
+        } else {
+            self.shapes[s] = shape;
+            self.shape_records[s] = record;
+            self.shape_body[s] = body;
+            self.fat_aabbs[s] = empty;
+            self.moved_flags[s] = false;
+        }
+        self.proxies_changed = true;
+        self.tree_dirty = true;
+        ShapeId { index, generation }
+    }
+
+    /// In debug builds, checks every invariant between the stores after an API change
+    /// (an internal bug, not bad input, if it fails).
+    pub(super) fn debug_validate(&self) {
+        #[cfg(debug_assertions)]
+        if let Err(e) = self.validate() {
+            panic!("tumble: the world's stores disagree after a change: {e}");
+        }
+    }
+
+    /// The shapes of body `i`, in part order.
+    pub(super) fn shapes_of_body(&self, i: usize) -> impl Iterator<Item = u32> + '_ {
+        let mut s = self.records[i].first_shape;
+        std::iter::from_fn(move || {
+            if s == NONE {
+                return None;
+            }
+            let here = s;
+            s = self.shape_records[s as usize].next;
+            Some(here)
+        })
+    }
+
+    /// The one place a body's mass data are computed from its shapes and kind, and every
+    /// copy refreshed: the solver's masses, the motion flags, each shape's pose relative to
+    /// the centre, and the masses the body's contacts keep. The centre of mass keeps its
+    /// place in the body's frame: the frame stays where it is and the centre moves.
+    pub(super) fn update_mass(&mut self, body: u32) {
+        let i = body as usize;
+        let kind = self.sims[i].kind;
+        let shape_ids: Vec<u32> = self.shapes_of_body(i).collect();
+        let md = BodyMass::of_shapes(shape_ids.iter().map(|&s| {
+            let r = &self.shape_records[s as usize];
+            (&self.shapes[s as usize], r.local, r.density)
+        }));
+        let dynamic = kind == BodyKind::Dynamic;
+        let center = if dynamic { md.center } else { Vec2::ZERO };
+        // Keep the frame's origin where it is.
+        let old_center = self.records[i].local_center;
+        if old_center != center {
+            let q = self.sims[i].xf.q;
+            self.sims[i].xf.p += q.apply(center - old_center);
+        }
+        self.records[i].local_center = center;
+        let (inv_mass, inv_inertia) = if dynamic && md.mass > 0.0 {
+            let inv_i = if self.records[i].fixed_rotation || md.inertia <= 0.0 {
+                0.0
+            } else {
+                1.0 / md.inertia
+            };
+            (1.0 / md.mass, inv_i)
+        } else {
+            (0.0, 0.0)
+        };
+        // Extents about the centre actually used (for other than dynamic bodies, the origin).
+        let extent = shape_ids.iter().fold(0.0f32, |e, &s| {
+            let r = &self.shape_records[s as usize];
+            e.max((r.local.p - center).length() + self.shapes[s as usize].extent())
+        });
+        let sim = &mut self.sims[i];
+        sim.inv_inertia = inv_inertia;
+        sim.extent = extent;
+        sim.min_extent = md.min_extent;
+        sim.margin = match kind {
+            BodyKind::Static => 0.0,
+            // Box2D `b2ComputeShapeMargin`: small shapes get proportionally small margins.
+            _ => AABB_MARGIN.min(0.125 * extent),
+        };
+        self.solver_bodies[i] = SolverBody {
+            inv_mass,
+            inv_inertia,
+            dynamic,
+        };
+        for &s in &shape_ids {
+            let r = &mut self.shape_records[s as usize];
+            r.from_center = Transform {
+                p: r.local.p - center,
+                q: r.local.q,
+            };
+            r.offset = r.from_center != Transform::IDENTITY;
+        }
+        self.refresh_motion(body);
+        // Contacts keep a copy of their bodies' masses (prepare reads no body): refresh it.
+        // (The colouring needs no telling: it is checked against the touching pairs.)
+        for (c, key) in self.contacts.iter_mut().zip(&mut self.contact_keys) {
+            if c.body_a == body || c.body_b == body {
+                c.masses = [
+                    self.solver_bodies[c.body_a as usize],
+                    self.solver_bodies[c.body_b as usize],
+                ];
+                *key = ContactKey {
+                    touching: key.touching,
+                    ..ContactKey::of(c, &self.awake)
+                };
+            }
+        }
+    }
+
+    /// The integration flags of a body from its kind, mass and sleep state.
+    pub(super) fn refresh_motion(&mut self, body: u32) {
+        let i = body as usize;
+        let kind = self.sims[i].kind;
+        let r = &self.records[i];
+        let awake = self.awake[i];
+        self.motion[i] = BodyMotion {
+            dynamic: kind == BodyKind::Dynamic && awake,
+            moves: kind != BodyKind::Static && awake,
+            rotates: match kind {
+                BodyKind::Static => false,
+                BodyKind::Kinematic => true,
+                BodyKind::Dynamic => self.sims[i].inv_inertia > 0.0,
+            },
+            linear_damping: r.linear_damping,
+            angular_damping: r.angular_damping,
+            gravity_scale: r.gravity_scale,
+        };
+    }
+
+    /// Recomputes the fat boxes of a body's shapes and marks them moved (after the body was
+    /// created or teleported).
+    pub(super) fn refresh_shape_boxes(&mut self, body: u32) {
+        let i = body as usize;
+        let ids: Vec<u32> = self.shapes_of_body(i).collect();
+        for s in ids {
+            let su = s as usize;
+            let aabb = step::swept_aabb(
+                &self.shapes[su],
+                &self.shape_records[su],
+                &self.sims[i],
+                &self.states[i],
+                1.0 / 60.0,
+            )
+            .grown(self.sims[i].margin);
+            self.fat_aabbs[su] = aabb;
+            if !self.moved_flags[su] {
+                self.moved_flags[su] = true;
+                self.moved.push(s);
+            }
+        }
+        self.tree_dirty = true;
+    }
+
+    /// Sets a body's velocities (e.g. a mouse drag) by slot; ignored for static bodies and
+    /// free slots. Wakes the body.
+    pub fn set_velocity(&mut self, index: usize, linear: Vec2, angular: f32) {
+        if !self.is_body(index)
+            || self.sims[index].kind == BodyKind::Static
+            || !linear.is_finite()
+            || !angular.is_finite()
+        {
+            return;
+        }
+        self.wake_body(index as u32);
+        let s = &mut self.states[index];
+        s.v = linear;
+        if self.sims[index].inv_inertia > 0.0 || self.sims[index].kind == BodyKind::Kinematic {
+            s.w = angular;
+        }
+    }
+
+    /// Sets a body's velocities by id (see [`World::set_velocity`]).
+    pub fn set_body_velocity(
+        &mut self,
+        id: BodyId,
+        linear: Vec2,
+        angular: f32,
+    ) -> Result<(), WorldError> {
+        let i = self.slot(id)?;
+        if !(linear.is_finite() && angular.is_finite()) {
+            return Err(WorldError::Invalid {
+                what: format!("velocity {linear:?}, {angular}"),
+                why: "velocities must be finite".into(),
+            });
+        }
+        self.set_velocity(i, linear, angular);
+        Ok(())
+    }
+
+    /// Moves a body's frame to `position` and `angle` (between steps): it teleports, keeps
+    /// its velocity, and is awake. Its contacts are recomputed next step.
+    pub fn set_transform(
+        &mut self,
+        id: BodyId,
+        position: Vec2,
+        angle: f32,
+    ) -> Result<(), WorldError> {
+        let i = self.slot(id)?;
+        if !(position.is_finite() && angle.is_finite()) {
+            return Err(WorldError::Invalid {
+                what: format!("pose {position:?}, {angle}"),
+                why: "a position and angle must be finite".into(),
+            });
+        }
+        let q = Rot::from_angle(angle);
+        let c = self.records[i].local_center;
+        self.sims[i].xf = Transform {
+            p: position + q.apply(c),
+            q,
+        };
+        // The move is not motion the recycling could follow.
+        for c in self.contacts.iter_mut() {
+            if c.body_a as usize == i || c.body_b as usize == i {
+                c.cache = None;
+            }
+        }
+        self.wake_body(i as u32);
+        self.refresh_shape_boxes(i as u32);
+        self.debug_validate();
+        Ok(())
+    }
+
+    /// Box2D's `b2Body_SetTargetTransform`: gives a (kinematic or dynamic) body the
+    /// velocity that brings its frame to `position` and `angle` in one step of `dt`, so a
+    /// kinematic pusher follows a path and still pushes what it meets.
+    pub fn set_target_transform(
+        &mut self,
+        id: BodyId,
+        position: Vec2,
+        angle: f32,
+        dt: f32,
+    ) -> Result<(), WorldError> {
+        let i = self.slot(id)?;
+        if !(position.is_finite() && angle.is_finite() && dt.is_normal() && dt > 0.0) {
+            return Err(WorldError::Invalid {
+                what: format!("target {position:?}, {angle} in {dt} s"),
+                why: "a finite pose and a time step > 0".into(),
+            });
+        }
+        let sim = self.sims[i];
+        let c = self.records[i].local_center;
+        let q = Rot::from_angle(angle);
+        let target_center = position + q.apply(c);
+        let v = (target_center - sim.xf.p) / dt;
+        // The turn from the current angle to the target's, the short way round.
+        let dq = sim.xf.q.inv_mul(q);
+        let w = dq.s.atan2(dq.c) / dt;
+        if self.sims[i].kind == BodyKind::Static {
+            return Err(WorldError::Invalid {
+                what: format!("{id}"),
+                why: "a static body does not move; make it kinematic first".into(),
+            });
+        }
+        self.wake_body(i as u32);
+        let st = &mut self.states[i];
+        st.v = v;
+        st.w = w;
+        Ok(())
+    }
+
+    /// Changes a body's kind (between steps); its mass data, islands and contacts follow.
+    pub fn set_kind(&mut self, id: BodyId, kind: BodyKind) -> Result<(), WorldError> {
+        let i = self.slot(id)?;
+        let old = self.sims[i].kind;
+        if old == kind {
+            return Ok(());
+        }
+        if kind == BodyKind::Dynamic {
+            let md = BodyMass::of_shapes(self.shapes_of_body(i).map(|s| {
+                let r = &self.shape_records[s as usize];
+                (&self.shapes[s as usize], r.local, r.density)
+            }));
+            let invertible = |x: f32| x.is_normal() && (1.0 / x).is_normal();
+            if !invertible(md.mass) {
+                return Err(WorldError::Invalid {
+                    what: format!("{id} made dynamic"),
+                    why: format!(
+                        "its shapes give a mass of {:e} kg, which f32 cannot invert: give a shape density",
+                        md.mass
+                    ),
+                });
+            }
+        }
+        // Its contacts' touching state and islands are rebuilt as if they were new.
+        self.wake_touching(i as u32);
+        self.islands.remove_body(i as u32);
+        if old == BodyKind::Kinematic {
+            self.kinematic_count -= 1;
+        }
+        if kind == BodyKind::Kinematic {
+            self.kinematic_count += 1;
+        }
+        self.sims[i].kind = kind;
+        if kind == BodyKind::Static {
+            self.states[i].v = Vec2::ZERO;
+            self.states[i].w = 0.0;
+        }
+        self.awake[i] = kind != BodyKind::Static;
+        self.sims[i].sleep_time = 0.0;
+        if kind == BodyKind::Dynamic {
+            self.islands.create(i as u32, true);
+        }
+        self.update_mass(i as u32);
+        // Contacts of this body are made afresh: pairs that may no longer touch (two
+        // static bodies) go, and new ones are found from its moved proxies.
+        self.remove_contacts_of(i as u32);
+        self.refresh_shape_boxes(i as u32);
+        self.debug_validate();
+        Ok(())
+    }
+
+    /// Destroys a body and its shapes (between steps). Bodies it touched wake up, and its
+    /// slot is free for the next body under a new generation.
+    pub fn destroy_body(&mut self, id: BodyId) -> Result<(), WorldError> {
+        let i = self.slot(id)?;
+        self.wake_touching(i as u32);
+        self.remove_contacts_of(i as u32);
+        self.islands.remove_body(i as u32);
+        let shapes: Vec<u32> = self.shapes_of_body(i).collect();
+        for s in shapes {
+            self.release_shape(s);
+        }
+        if self.sims[i].kind == BodyKind::Kinematic {
+            self.kinematic_count -= 1;
+        }
+        self.records[i].first_shape = NONE;
+        self.sims[i].kind = BodyKind::Static;
+        self.states[i] = BodyState::default();
+        self.awake[i] = false;
+        self.solver_bodies[i] = SolverBody::default();
+        self.refresh_motion(i as u32);
+        self.body_slots.release(i as u32);
+        self.debug_validate();
+        Ok(())
+    }
+
+    /// Adds a shape to a body (between steps), checked as a scene part would be; the body's
+    /// mass data follow.
+    pub fn create_shape(&mut self, body: BodyId, part: &PartDef) -> Result<ShapeId, WorldError> {
+        let i = self.slot(body)?;
+        // Check it as the part of a one-part body of this kind.
+        let mut def = BodyDef::compound(vec![part.clone()]);
+        def.kind = self.sims[i].kind;
+        let one = SceneDef {
+            bodies: vec![def.clone()],
+            ..SceneDef::new("")
+        };
+        one.validate(&Limits::default())?;
+        let parts = def.parts();
+        let resolved = &parts[0];
+        let (shape, local) = part_geometry(resolved).map_err(|e| WorldError::Invalid {
+            what: "shape".into(),
+            why: e.to_string(),
+        })?;
+        // Appended as the body's last part.
+        let id = self.insert_shape(i as u32, shape, local, resolved);
+        self.records[i].parts += 1;
+        self.wake_body(i as u32);
+        self.update_mass(i as u32);
+        self.refresh_shape_boxes(i as u32);
+        self.debug_validate();
+        Ok(id)
+    }
+
+    /// Destroys one shape (between steps). A dynamic body keeps at least one shape with
+    /// area (destroy the body instead).
+    pub fn destroy_shape(&mut self, id: ShapeId) -> Result<(), WorldError> {
+        let s = self.shape_slot(id)?;
+        let body = self.shape_records[s].body;
+        let i = body as usize;
+        if self.sims[i].kind == BodyKind::Dynamic {
+            let others = self
+                .shapes_of_body(i)
+                .filter(|&o| o as usize != s && self.shape_records[o as usize].density > 0.0)
+                .count();
+            if others == 0 {
+                return Err(WorldError::Invalid {
+                    what: format!("{id}"),
+                    why: "the last shape with mass of a dynamic body; destroy the body instead"
+                        .into(),
+                });
+            }
+        }
+        self.wake_touching(body);
+        // Its contacts go.
+        self.remove_contacts_where(|c| c.shape_a as usize == s || c.shape_b as usize == s);
+        // Unlink it from the body's list.
+        let next = self.shape_records[s].next;
+        if self.records[i].first_shape == s as u32 {
+            self.records[i].first_shape = next;
+        } else {
+            let mut k = self.records[i].first_shape;
+            while self.shape_records[k as usize].next != s as u32 {
+                k = self.shape_records[k as usize].next;
+            }
+            self.shape_records[k as usize].next = next;
+        }
+        self.release_shape(s as u32);
+        self.islands.unlink(body, body);
+        self.update_mass(body);
+        self.refresh_shape_boxes(body);
+        self.debug_validate();
+        Ok(())
+    }
+
+    /// Frees a shape's slot and drops it from the broad phase.
+    pub(super) fn release_shape(&mut self, s: u32) {
+        let su = s as usize;
+        if self.moved_flags[su] {
+            self.moved_flags[su] = false;
+            self.moved.retain(|&m| m != s);
+        }
+        self.shape_records[su].next = NONE;
+        self.shape_records[su].body = NONE;
+        self.shape_body[su] = NONE;
+        self.shape_slots.release(s);
+        self.proxies_changed = true;
+        self.tree_dirty = true;
+    }
+
+    /// Removes every contact of body `i` (its islands were told by the caller).
+    pub(super) fn remove_contacts_of(&mut self, body: u32) {
+        self.remove_contacts_where(|c| c.body_a == body || c.body_b == body);
+    }
+
+    /// Removes the contacts `gone` picks, keeping the others' order; a touching one unlinks
+    /// its bodies' island.
+    pub(super) fn remove_contacts_where(&mut self, gone: impl Fn(&Contact) -> bool) {
+        let mut keep = 0;
+        for k in 0..self.contacts.len() {
+            let c = self.contacts[k];
+            if gone(&c) {
+                if c.touched {
+                    self.islands.unlink(c.body_a, c.body_b);
+                }
+                continue;
+            }
+            self.contacts[keep] = c;
+            self.contact_keys[keep] = self.contact_keys[k];
+            keep += 1;
+        }
+        if keep != self.contacts.len() {
+            self.contacts.truncate(keep);
+            self.contact_keys.truncate(keep);
+            self.pairs = self
+                .contacts
+                .iter()
+                .enumerate()
+                .map(|(k, c)| (pair_key(c.shape_a, c.shape_b), k as u32))
+                .collect();
+        }
+    }
+}
