@@ -189,6 +189,19 @@ fn a_resting_pyramid_falls_asleep_as_one_island_and_then_costs_nothing() {
 }
 
 #[test]
+fn switching_sleep_off_wakes_every_island() {
+    let mut w = pyramid(5);
+    step_checked(&mut w, 200);
+    assert_eq!(w.awake_body_count(), 0);
+    w.settings_mut().enable_sleep = false;
+    step_checked(&mut w, 1);
+    assert_eq!(w.awake_body_count(), w.live_body_count() - 1);
+    assert_eq!(w.island_counts(), (1, 1));
+    step_checked(&mut w, 200);
+    assert_eq!(w.awake_body_count(), w.live_body_count() - 1);
+}
+
+#[test]
 fn a_ball_dropped_on_a_sleeping_pyramid_wakes_it() {
     let mut w = pyramid(10);
     step_checked(&mut w, 240);

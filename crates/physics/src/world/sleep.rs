@@ -193,6 +193,16 @@ impl World {
         self.islands.islands[k as usize].bodies = bodies;
     }
 
+    /// Wakes every island.
+    pub(super) fn wake_all(&mut self) {
+        for k in 0..self.islands.islands.len() {
+            if let Some(&first) = self.islands.islands[k].bodies.first() {
+                self.wake_island_of(first);
+            }
+        }
+        self.refresh_contact_keys();
+    }
+
     /// Wakes a body's island (an API call changed it), and resets its rest.
     pub(super) fn wake_body(&mut self, body: u32) {
         let i = body as usize;

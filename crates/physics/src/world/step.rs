@@ -47,6 +47,10 @@ impl World {
             self.profile = profile;
             return;
         }
+        // Sleeping switched off while islands slept: they wake (Box2D's b2World_EnableSleeping).
+        if !self.settings.enable_sleep && self.islands.awake_count() < self.islands.count() {
+            self.wake_all();
+        }
         // Nothing awake and nothing moved: no contact can change and no body can move (every
         // dynamic body sleeps, and static ones never move), so the step is only counted. A
         // pile at rest costs nothing.
