@@ -56,8 +56,9 @@ pub struct ContactInput<'a> {
     pub restitution: f32,
     /// This step's manifold (with warm-start impulses).
     pub manifold: &'a Manifold,
-    /// Both bodies' masses, as the contact keeps them (copied when it was made: a body's
-    /// mass never changes), so neither prepare nor the colouring looks the bodies up.
+    /// Both bodies' masses, as the contact keeps them (copied when it is made, and refreshed
+    /// by the world's one mass update whenever a body's shapes or kind change, which
+    /// `World::validate` checks), so neither prepare nor the colouring looks the bodies up.
     pub masses: [SolverBody; 2],
 }
 
