@@ -136,10 +136,7 @@ mod imp {
 
     /// The tumble settings of a scene (what the peers are told where they have the knob).
     pub(crate) fn settings_of(scene: &SceneDef) -> Result<StepSettings> {
-        // A world of the settings only: `from_scene` fills in gravity and keeps the defaults.
-        let mut empty = scene.clone();
-        empty.bodies.clear();
-        Ok(*World::from_scene(&empty, &scenes::limits())?.settings())
+        crate::peers::scene_settings(scene)
     }
 
     pub(crate) fn build(
@@ -160,6 +157,9 @@ mod imp {
         world: World,
         dt: f32,
         substeps: u32,
+        /// The built-in's script (junkyard's pusher), run before each step as `tumble-bench
+        /// run` does; the peers run theirs (`peers::script`, chosen by the same name).
+        script: Option<tumble_scene::builtin::Script>,
     }
 
     impl TumblePeer {
@@ -171,18 +171,24 @@ mod imp {
                 world,
                 dt: scene.dt,
                 substeps: scene.substeps,
+                script: tumble_scene::builtin::script(&scene.name),
             })
         }
     }
 
     impl Peer for TumblePeer {
         fn step(&mut self) -> Result<()> {
+            if let Some(script) = self.script {
+                script(self.world.step_count(), &mut self.world);
+            }
             self.world.step(self.dt, self.substeps);
             Ok(())
         }
+        /// The body frame's origin, as the peers and the runner report it (the centre of mass
+        /// for a body of one shape).
         fn pose(&mut self, index: usize) -> Result<[f32; 3]> {
             let b = self.world.body(index);
-            Ok([b.position.x, b.position.y, b.angle])
+            Ok([b.origin.x, b.origin.y, b.angle])
         }
         fn velocity(&mut self, index: usize) -> Result<[f32; 3]> {
             let b = self.world.body(index);
@@ -864,19 +870,31 @@ mod imp {
         let _ = writeln!(md, "## Settings\n");
         let _ = writeln!(
             md,
-            "- **tumble**: `World::from_scene` defaults (contact 30 Hz, damping ratio 10, push-out \
-             3 m/s, 1 relax pass, warm starting, restitution threshold 1 m/s, speed cap 400 m/s); \
+            "- **Every engine**: each body with all its parts (one shape or collider per part, at \
+             its offset and angle, with its own density, friction, restitution and filter), its \
+             kind, `gravity_scale`, `fixed_rotation` and damping; sleeping as the scene says \
+             (its `sleep`, each body's `enable_sleep` and `awake`, the `solver` block's \
+             `sleep_threshold`; `peers/box2d.rs` and `peers/rapier.rs` say what each maps and \
+             how Rapier's sleep test differs); a built-in with a script (junkyard's pusher) runs \
+             it before every step in every engine (Box2D through `b2Body_SetTargetTransform`, \
+             Rapier and tumble with the velocity that reaches the target in one step). Poses \
+             are the body frame's origin.\n\
+             - **tumble**: `World::from_scene` defaults (contact 30 Hz, damping ratio 10, push-out \
+             3 m/s, 1 relax pass, warm starting, restitution threshold 1 m/s, speed cap 400 m/s, \
+             sleep threshold 0.05 m/s after 0.5 s) and the scene's `solver` block; \
              `set_thread_count(threads)`.\n\
              - **Box2D**: tumble's gravity, contact hertz, damping ratio, push-out speed \
-             (`contactSpeed`), restitution threshold and speed cap; sleep off; continuous \
-             collision off (tumble has none); contact events off (tumble makes none); \
-             `workerCount = threads` (Box2D's own scheduler: the caller plus threads − 1). Boxes \
-             are `b2MakeBox`, other polygons the hull of tumble's recentred vertices, radius 0. \
-             Friction mixes as `sqrt(a·b)` and restitution as `max(a, b)`, as in tumble.\n\
+             (`contactSpeed`), restitution threshold, speed cap and sleep threshold (its time to \
+             sleep is fixed at 0.5 s); continuous collision off (tumble has none); contact and \
+             sensor events off (tumble makes none); `workerCount = threads` (Box2D's own \
+             scheduler: the caller plus threads − 1). Boxes are `b2MakeBox` (`b2MakeOffsetBox` \
+             for an offset part), other polygons the hull of their vertices, radius 0. Friction \
+             mixes as `sqrt(a·b)` and restitution as `max(a, b)`, as in tumble.\n\
              - **Rapier**: `dt` = the scene's, `num_solver_iterations` = the scene's substeps \
              (Rapier's substeps), all other integration parameters Rapier's defaults; \
-             `max_ccd_substeps = 0` (CCD off everywhere) and no body asks for CCD; `can_sleep(false)` \
-             on every body; friction: each collider its body's coefficient with \
+             `max_ccd_substeps = 0` (CCD off everywhere) and no body asks for CCD; sleep \
+             threshold and time as tumble's; filters as interaction groups (a non-zero group by \
+             a contact filter hook); friction: each collider its part's coefficient with \
              `CoefficientCombineRule::GeometricMean`, which is `sqrt(a·b)` for every pair, \
              exactly tumble's rule (not `Multiply`, which would give `a·b`); restitution \
              `CoefficientCombineRule::Max`. The step runs inside a rayon pool of `threads` \

@@ -23,8 +23,17 @@ pub fn time_tumble(scene: &SceneDef, threads: usize, warmup: u32, steps: u32) ->
     let mut world = World::from_scene(scene, &scenes::limits())
         .with_context(|| format!("{}: cannot build the world", scene.name))?;
     world.set_thread_count(threads);
-    for _ in 0..warmup {
+    // A built-in that moves things between steps (junkyard's pusher) does so here too, inside
+    // the clock as in `compare` (the peers run theirs, `peers::script`, there).
+    let script = tumble_scene::builtin::script(&scene.name);
+    let step = |world: &mut World| {
+        if let Some(script) = script {
+            script(world.step_count(), world);
+        }
         world.step(scene.dt, scene.substeps);
+    };
+    for _ in 0..warmup {
+        step(&mut world);
     }
     let mut wall = 0.0f64;
     let mut contacts = 0.0f64;
@@ -36,7 +45,7 @@ pub fn time_tumble(scene: &SceneDef, threads: usize, warmup: u32, steps: u32) ->
         .collect();
     for _ in 0..steps {
         let t = Instant::now();
-        world.step(scene.dt, scene.substeps);
+        step(&mut world);
         wall += t.elapsed().as_secs_f64() * 1e3;
         let profile = world.profile();
         contacts += profile.contacts as f64;

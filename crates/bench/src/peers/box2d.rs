@@ -1,21 +1,39 @@
 //! A scene in Box2D v3 through boxdd.
 //!
-//! Mapping: each tumble body is one Box2D body with one shape. Boxes are `b2MakeBox` polygons
-//! (radius 0), other polygons are the hull of tumble's centroid-recentred vertices, circles are
-//! centred circles. Friction and restitution go on each shape's material; Box2D mixes them as
-//! tumble does (friction `sqrt(a * b)`, restitution `max(a, b)`). World: tumble's gravity,
-//! contact hertz, damping ratio, push-out speed, restitution threshold and speed cap; sleep off;
-//! continuous collision off (tumble has none); contact events off (tumble produces none);
-//! `threads` workers (Box2D's own scheduler: the caller plus `threads - 1` threads).
+//! Mapping: each tumble body is one Box2D body: its kind, frame (position and angle), velocity
+//! (tumble's is the centre of mass's, Box2D's definition takes the origin's: converted),
+//! damping, `gravity_scale`, `fixed_rotation` (`b2MotionLocks` on rotation), and one Box2D shape
+//! per part ([`part_shape`]): boxes are `b2MakeBox`, or `b2MakeOffsetBox` at a part's offset
+//! and angle; polygons the hull of their vertices in the body's frame (a body of one shape:
+//! tumble's centroid-recentred vertices), radius 0; circles at their centre. Each shape has its
+//! part's density, friction and restitution (Box2D mixes them as tumble does: friction
+//! `sqrt(a * b)`, restitution `max(a, b)`), its filter as a `b2Filter` (`categoryBits`,
+//! `maskBits`, `groupIndex`: Box2D's rule is tumble's; a group outside `i32` is refused) and
+//! `isSensor` for a sensor part (with sensor events off: tumble's sensor today touches
+//! nothing and reports nothing). Box2D computes the mass, centre of mass and inertia from the
+//! shapes as tumble does.
+//!
+//! Sleep: the world's `enableSleep` is the scene's `sleep`; each body's `enableSleep` its
+//! `enable_sleep`, `isAwake` its `awake` (a body starts asleep only in a world that sleeps, as
+//! in tumble) and `sleepThreshold` the scene's `solver.sleep_threshold` (tumble's default,
+//! Box2D's, 0.05 m/s). Box2D's time to sleep is the compile-time constant `B2_TIME_TO_SLEEP`
+//! (0.5 s, tumble's default): a scene's other `solver.time_to_sleep` is not passed on.
+//!
+//! World: tumble's gravity, contact hertz, damping ratio, push-out speed, restitution threshold
+//! and speed cap; continuous collision off (tumble has none, so `bullet` and the scene's
+//! `continuous` are not passed on); contact events off (tumble produces none); `threads`
+//! workers (Box2D's own scheduler: the caller plus `threads - 1` threads). A scene with a
+//! script ([`super::script`], junkyard's pusher) runs it before each step through
+//! `b2Body_SetTargetTransform`.
 
 use anyhow::{Result, bail};
 use boxdd::{
-    BodyBuilder, BodyId, BodyType, Foundation, MotionLocks, Position, ShapeDef, SurfaceMaterial,
-    Vec2, WorkerCount, World, WorldBuilder,
+    BodyBuilder, BodyId, BodyType, Circle, Filter, Foundation, MotionLocks, Polygon, Position, Rot,
+    ShapeDef, SurfaceMaterial, Transform, Vec2, WorkerCount, World, WorldBuilder, WorldTransform,
 };
-use tumble_physics::{BodyKind, SceneDef, Shape, ShapeDef as TumbleShape, StepSettings};
+use tumble_physics::{BodyKind, SceneDef, StepSettings};
 
-use super::{Peer, ok};
+use super::{PartShape, Peer, Script, Targets, ok, origin_velocity, part_shape};
 
 /// A Box2D world holding a tumble scene.
 pub struct Box2d {
@@ -23,6 +41,8 @@ pub struct Box2d {
     ids: Vec<BodyId>,
     dt: f32,
     substeps: i32,
+    script: Option<Script>,
+    steps: u64,
 }
 
 /// Box2D's version, e.g. "3.2.0".
@@ -31,6 +51,21 @@ pub fn version() -> String {
         Ok(v) => format!("{}.{}.{}", v.major, v.minor, v.revision),
         Err(_) => "unknown".into(),
     }
+}
+
+/// A tumble filter as Box2D's (the same bits; Box2D's group is an `i32`).
+fn filter(f: &tumble_physics::Filter) -> Result<Filter> {
+    let Ok(group_index) = i32::try_from(f.group) else {
+        bail!(
+            "filter group {} does not fit Box2D's 32-bit groupIndex",
+            f.group
+        );
+    };
+    Ok(Filter {
+        category_bits: f.category,
+        mask_bits: f.mask,
+        group_index,
+    })
 }
 
 impl Box2d {
@@ -44,7 +79,7 @@ impl Box2d {
         let def = ok(
             WorldBuilder::from(f.world_def())
                 .gravity(Vec2::new(scene.gravity[0], scene.gravity[1]))
-                .enable_sleep(false)
+                .enable_sleep(scene.sleep)
                 .enable_continuous(false)
                 .contact_hertz(settings.contact_hertz)
                 .contact_damping_ratio(settings.contact_damping_ratio)
@@ -64,53 +99,76 @@ impl Box2d {
                 BodyKind::Dynamic => BodyType::Dynamic,
                 BodyKind::Kinematic => BodyType::Kinematic,
             };
+            // tumble starts a body asleep only when the world sleeps and the body is dynamic;
+            // Box2D would put any body defined asleep into a sleeping set.
+            let asleep = !b.awake && scene.sleep && b.kind == BodyKind::Dynamic;
+            let v = origin_velocity(b);
             let body_def = ok(
                 BodyBuilder::from(f.body_def())
                     .body_type(kind)
                     .position(Position::new(b.position[0], b.position[1]))
                     .angle(b.angle)
-                    .linear_velocity(Vec2::new(b.linear_velocity[0], b.linear_velocity[1]))
+                    .linear_velocity(Vec2::new(v[0], v[1]))
                     .angular_velocity(b.angular_velocity)
                     .linear_damping(b.linear_damping)
                     .angular_damping(b.angular_damping)
-                    .enable_sleep(false)
+                    .gravity_scale(b.gravity_scale)
+                    .enable_sleep(b.enable_sleep)
+                    .sleep_threshold(settings.sleep_threshold)
+                    .awake(!asleep)
                     .motion_locks(MotionLocks::new(false, false, b.fixed_rotation))
                     .build(),
                 &what,
             )?;
             let id = ok(world.create_body(body_def), &what)?;
-            let material = ok(
-                SurfaceMaterial::default()
-                    .with_friction(b.friction)
-                    .and_then(|m| m.with_restitution(b.restitution)),
-                &what,
-            )?;
-            let shape_def = ok(
-                ShapeDef::builder()
-                    .density(b.density)
-                    .material(material)
-                    .enable_contact_events(false)
-                    .build(),
-                &what,
-            )?;
             let mut body = ok(world.body(id), &what)?;
-            match (&b.shape, ok(Shape::from_def(&b.shape), &what)?) {
-                (TumbleShape::Box { half_extents }, _) => {
-                    ok(
-                        body.create_box(&shape_def, half_extents[0], half_extents[1]),
-                        &what,
-                    )?;
-                }
-                (_, Shape::Circle(c)) => {
-                    ok(body.create_centered_circle(&shape_def, c.radius), &what)?;
-                }
-                (_, Shape::Polygon(p)) => {
-                    let points: Vec<Vec2> =
-                        p.points().iter().map(|v| Vec2::new(v.x, v.y)).collect();
-                    ok(
-                        body.create_polygon_from_points(&shape_def, points, 0.0),
-                        &what,
-                    )?;
+            for (k, part) in b.parts().iter().enumerate() {
+                let what = format!("Box2D body {i}, part {k}");
+                let material = ok(
+                    SurfaceMaterial::default()
+                        .with_friction(part.friction)
+                        .and_then(|m| m.with_restitution(part.restitution)),
+                    &what,
+                )?;
+                let shape_def = ok(
+                    ShapeDef::builder()
+                        .density(part.density)
+                        .material(material)
+                        .filter(filter(&part.filter).map_err(|e| anyhow::anyhow!("{what}: {e}"))?)
+                        .sensor(part.sensor)
+                        .enable_sensor_events(false)
+                        .enable_contact_events(false)
+                        .build(),
+                    &what,
+                )?;
+                let shape = part_shape(part).map_err(|e| anyhow::anyhow!("{what}: {e}"))?;
+                match shape {
+                    PartShape::Box {
+                        half_extents: [hx, hy],
+                        center: [0.0, 0.0],
+                        angle: 0.0,
+                    } => {
+                        ok(body.create_box(&shape_def, hx, hy), &what)?;
+                    }
+                    PartShape::Box {
+                        half_extents: [hx, hy],
+                        center,
+                        angle,
+                    } => {
+                        let xf = ok(Transform::from_pos_angle(center, angle), &what)?;
+                        let polygon = ok(Polygon::offset_box_polygon(hx, hy, xf), &what)?;
+                        ok(body.create_polygon(&shape_def, &polygon), &what)?;
+                    }
+                    PartShape::Circle { center, radius } => {
+                        let circle = ok(Circle::new(center, radius), &what)?;
+                        ok(body.create_circle(&shape_def, &circle), &what)?;
+                    }
+                    PartShape::Polygon(points) => {
+                        ok(
+                            body.create_polygon_from_points(&shape_def, points, 0.0),
+                            &what,
+                        )?;
+                    }
                 }
             }
             ids.push(id);
@@ -123,12 +181,58 @@ impl Box2d {
             ids,
             dt: scene.dt,
             substeps: scene.substeps as i32,
+            script: super::script(&scene.name),
+            steps: 0,
         })
+    }
+
+    /// Whether body `index` is awake (`b2Body_IsAwake`).
+    #[cfg(test)]
+    pub fn is_awake(&mut self, index: usize) -> Result<bool> {
+        let body = ok(self.world.body(self.ids[index]), "Box2D body")?;
+        ok(body.is_awake(), "Box2D awake")
+    }
+
+    /// Body `index`'s mass and centre of mass in its frame (`b2Body_GetMass`,
+    /// `b2Body_GetLocalCenterOfMass`).
+    #[cfg(test)]
+    pub fn mass(&mut self, index: usize) -> Result<(f32, [f32; 2])> {
+        let body = ok(self.world.body(self.ids[index]), "Box2D body")?;
+        let m = ok(body.mass(), "Box2D mass")?;
+        let c = ok(body.local_center_of_mass(), "Box2D centre of mass")?;
+        Ok((m, [c.x, c.y]))
+    }
+}
+
+impl Targets for Box2d {
+    fn body_count(&self) -> usize {
+        self.ids.len()
+    }
+
+    fn set_target_transform(
+        &mut self,
+        index: usize,
+        position: [f32; 2],
+        angle: f32,
+        dt: f32,
+    ) -> Result<()> {
+        let what = "Box2D target transform";
+        let q = ok(Rot::from_radians(angle), what)?;
+        let target = ok(
+            WorldTransform::new(Position::new(position[0], position[1]), q),
+            what,
+        )?;
+        let mut body = ok(self.world.body(self.ids[index]), what)?;
+        ok(body.set_target_transform(target, dt, true), what)
     }
 }
 
 impl Peer for Box2d {
     fn step(&mut self) -> Result<()> {
+        if let Some(script) = self.script {
+            script(self.steps, self)?;
+        }
+        self.steps += 1;
         ok(
             self.world.step(self.dt, self.substeps).map(|_| ()),
             "Box2D step",
@@ -184,7 +288,7 @@ impl Peer for Box2d {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use tumble_physics::{BodyDef, Limits, SceneDef, World};
+    use tumble_physics::{BodyDef, Limits, SceneDef, ShapeDef as TumbleShape, World};
 
     /// Bodies that each touch only the static ground, 5 m apart: a box at rest, a box sliding
     /// at 3 m/s, a box tipped on a corner and a circle thrown spinning. (A box dropped on
@@ -197,6 +301,8 @@ mod tests {
     /// closing speed (Box2D has continuous collision for that, off in this comparison).
     fn apart() -> SceneDef {
         let mut scene = SceneDef::new("apart");
+        // The solver's motion only: nothing falls asleep part way.
+        scene.sleep = false;
         let unit = TumbleShape::Box {
             half_extents: [0.5, 0.5],
         };

@@ -3,6 +3,11 @@
 //!
 //! The [`Peer`] trait is always compiled (the accuracy report steps tumble through it too); the
 //! peers themselves only with the `peers` feature.
+//!
+//! What both peers share lives here: each body part's geometry in its body's frame
+//! ([`part_shape`]), and the per-scene scripts ([`script`]) that do between steps what a
+//! built-in's `tumble_scene::builtin::script` does in tumble (junkyard's pusher), through the
+//! one call each peer has for it ([`Targets`]).
 
 #[cfg(feature = "peers")]
 pub mod box2d;
@@ -15,7 +20,10 @@ use anyhow::Result;
 pub trait Peer {
     /// One step (what is timed).
     fn step(&mut self) -> Result<()>;
-    /// Body `index` of the scene: (x, y, angle).
+    /// Body `index` of the scene: its frame's origin and angle (x, y, angle). For a body of
+    /// one shape that is its centre of mass (the scene places it so); for a body of several
+    /// parts (`shapes`), the point the scene placed, as `tumble-bench run` reports it
+    /// (tumble's `BodyView::origin`, Box2D's `b2Body_GetPosition`, Rapier's `translation`).
     fn pose(&mut self, index: usize) -> Result<[f32; 3]>;
     /// Body `index` of the scene: linear velocity of its centre of mass and angular velocity
     /// (vx, vy, w).
@@ -52,4 +60,413 @@ pub const STAGES: [&str; 6] = [
 #[cfg(feature = "peers")]
 pub(crate) fn ok<T, E: std::fmt::Display>(r: Result<T, E>, what: &str) -> Result<T> {
     r.map_err(|e| anyhow::anyhow!("{what}: {e}"))
+}
+
+/// What a peer's script may do to its world between steps.
+#[cfg(feature = "peers")]
+pub trait Targets {
+    /// Bodies in the world (the scene's, in order).
+    fn body_count(&self) -> usize;
+    /// Box2D's `b2Body_SetTargetTransform` (tumble's `World::set_target_transform`): gives
+    /// body `index` the velocity that brings its frame to `position` and `angle` in one step
+    /// of `dt`, and wakes it.
+    fn set_target_transform(
+        &mut self,
+        index: usize,
+        position: [f32; 2],
+        angle: f32,
+        dt: f32,
+    ) -> Result<()>;
+}
+
+/// A peer's per-step script: the steps taken so far and the world. The peers' counterpart of
+/// `tumble_scene::builtin::Script`.
+#[cfg(feature = "peers")]
+pub type Script = fn(u64, &mut dyn Targets) -> Result<()>;
+
+/// The peers' script of the scene named `name`: the same name as the built-in whose
+/// `tumble_scene::builtin::script` it mirrors, and the same calls, so that every engine runs
+/// the same scene (tested against tumble's in `tests::peer_scripts_do_what_tumbles_do`). A
+/// scene without one returns `None`.
+#[cfg(feature = "peers")]
+pub fn script(name: &str) -> Option<Script> {
+    match name {
+        "junkyard" => Some(junkyard),
+        _ => None,
+    }
+}
+
+/// Box2D's `StepJunkyard` (tumble's `junkyard_step`): the pusher, the last body, aims for
+/// x = 60 sin(0.2 t) at angle 0, reached in one 60 Hz step.
+#[cfg(feature = "peers")]
+fn junkyard(steps: u64, world: &mut dyn Targets) -> Result<()> {
+    let dt = 1.0 / 60.0;
+    let t = dt * steps as f32;
+    let x = 60.0 * (0.2 * t).sin();
+    let Some(pusher) = world.body_count().checked_sub(1) else {
+        return Ok(());
+    };
+    world.set_target_transform(pusher, [x, 0.0], 0.0, dt)
+}
+
+/// A body part's geometry in its body's frame, as both peers build it.
+#[cfg(feature = "peers")]
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum PartShape {
+    /// A disc.
+    Circle { center: [f32; 2], radius: f32 },
+    /// A rectangle of these half extents, centred at `center`, turned by `angle` (Box2D's
+    /// `b2MakeOffsetBox`; `b2MakeBox` when both are zero).
+    Box {
+        half_extents: [f32; 2],
+        center: [f32; 2],
+        angle: f32,
+    },
+    /// A convex polygon, counter-clockwise.
+    Polygon(Vec<[f32; 2]>),
+}
+
+/// A part's shape in its body's frame. A body of one shape (`part.single`) keeps tumble's
+/// placement: a polygon is recentred on its centroid (the body's position is its centre of
+/// mass). A part of `shapes` sits at its offset and angle, a polygon's vertices where they are
+/// in the part's frame (CONTRACT.md section 5; Box2D's `b2MakePolygon` of a hull does the
+/// same), so the centre of mass follows from the parts in every engine.
+#[cfg(feature = "peers")]
+pub(crate) fn part_shape(part: &tumble_physics::ResolvedPart<'_>) -> Result<PartShape> {
+    use tumble_physics::{Rot, Shape, ShapeDef, Vec2};
+    let q = Rot::from_angle(part.angle);
+    let place = |v: Vec2| -> [f32; 2] {
+        if part.single {
+            v.into()
+        } else {
+            (Vec2::from(part.offset) + q.apply(v)).into()
+        }
+    };
+    Ok(match part.shape {
+        ShapeDef::Circle { radius } => PartShape::Circle {
+            center: place(Vec2::ZERO),
+            radius: *radius,
+        },
+        ShapeDef::Box { half_extents } => PartShape::Box {
+            half_extents: *half_extents,
+            center: place(Vec2::ZERO),
+            angle: if part.single { 0.0 } else { part.angle },
+        },
+        ShapeDef::Polygon { vertices } => {
+            if part.single {
+                let Shape::Polygon(p) =
+                    Shape::from_def(part.shape).map_err(|e| anyhow::anyhow!("bad polygon: {e}"))?
+                else {
+                    anyhow::bail!("a polygon that does not build as one");
+                };
+                PartShape::Polygon(p.points().iter().map(|v| [v.x, v.y]).collect())
+            } else {
+                PartShape::Polygon(vertices.iter().map(|&v| place(Vec2::from(v))).collect())
+            }
+        }
+    })
+}
+
+/// The settings a tumble world built from `scene` runs with (the defaults with the scene's
+/// `solver` block applied): what the peers are told where they have the knob.
+#[cfg(feature = "peers")]
+pub(crate) fn scene_settings(
+    scene: &tumble_physics::SceneDef,
+) -> Result<tumble_physics::StepSettings> {
+    // A world of the settings only: `from_scene` fills in the defaults and the solver block.
+    let mut empty = scene.clone();
+    empty.bodies.clear();
+    Ok(*tumble_physics::World::from_scene(&empty, &crate::scenes::limits())?.settings())
+}
+
+/// The velocity of a body's centre of mass from the velocity the scene gives it: tumble's
+/// `linear_velocity` is the centre of mass's, Box2D's `b2BodyDef::linearVelocity` the
+/// origin's (`b2UpdateBodyMassData` adds `w × (centre − origin)`). This returns what to give
+/// Box2D: `v − w × r`, with `r` the centre of mass's offset from the origin in the world.
+#[cfg(feature = "peers")]
+pub(crate) fn origin_velocity(b: &tumble_physics::BodyDef) -> [f32; 2] {
+    let [vx, vy] = b.linear_velocity;
+    let w = b.angular_velocity;
+    if w == 0.0 || b.shape.is_some() {
+        return [vx, vy];
+    }
+    let c = tumble_physics::BodyMass::of_def(b).center;
+    let r = tumble_physics::Rot::from_angle(b.angle).apply(c);
+    // w × r = (-w r.y, w r.x).
+    [vx + w * r.y, vy - w * r.x]
+}
+
+#[cfg(all(test, feature = "peers"))]
+mod tests {
+    use super::box2d::Box2d;
+    use super::rapier::Rapier;
+    use super::*;
+    use tumble_physics::{BodyDef, BodyKind, Limits, PartDef, SceneDef, ShapeDef, Vec2, World};
+
+    /// tumble's world behind [`Targets`], to run the peers' script on it.
+    struct Tumble<'a>(&'a mut World);
+
+    impl Targets for Tumble<'_> {
+        fn body_count(&self) -> usize {
+            self.0.body_count()
+        }
+        fn set_target_transform(
+            &mut self,
+            index: usize,
+            position: [f32; 2],
+            angle: f32,
+            dt: f32,
+        ) -> Result<()> {
+            let id = self.0.body_id(index).expect("a body");
+            self.0
+                .set_target_transform(id, Vec2::from(position), angle, dt)
+                .map_err(|e| anyhow::anyhow!("{e}"))
+        }
+    }
+
+    #[test]
+    fn peer_scripts_do_what_tumbles_do() {
+        // Every built-in with a tumble script has a peer script that makes the same calls:
+        // two tumble worlds, one driven by each, move every body identically.
+        for &name in tumble_scene::builtin::names() {
+            let Some(theirs) = tumble_scene::builtin::script(name) else {
+                assert!(
+                    script(name).is_none(),
+                    "{name}: a peer script but no tumble one"
+                );
+                continue;
+            };
+            let ours = script(name).unwrap_or_else(|| panic!("{name}: no peer script"));
+            let scene = tumble_scene::builtin::build(name).unwrap();
+            let limits = Limits {
+                max_bodies: 1_000_000,
+                ..Limits::default()
+            };
+            let mut a = World::from_scene(&scene, &limits).unwrap();
+            let mut b = World::from_scene(&scene, &limits).unwrap();
+            for step in [0u64, 1, 7, 100, 999] {
+                theirs(step, &mut a);
+                ours(step, &mut Tumble(&mut b)).unwrap();
+                for i in 0..scene.bodies.len() {
+                    assert_eq!(a.body(i), b.body(i), "{name}, step {step}, body {i}");
+                }
+            }
+        }
+    }
+
+    /// A body of two parts off its origin (an offset, turned box of density 2 and a triangle
+    /// whose vertices sit away from its part's frame), placed at an angle and spinning, in a
+    /// world without gravity.
+    fn compound() -> SceneDef {
+        let mut scene = SceneDef::new("compound");
+        scene.gravity = [0.0, 0.0];
+        scene.sleep = false;
+        let parts = vec![
+            PartDef::new(ShapeDef::Box {
+                half_extents: [0.5, 0.25],
+            })
+            .at(1.0, 0.5, 0.3)
+            .density(2.0),
+            PartDef::new(ShapeDef::Polygon {
+                vertices: vec![[-1.0, 0.0], [0.5, 1.0], [0.0, 2.0]],
+            })
+            .at(-0.5, 0.0, 0.0),
+        ];
+        scene.push(
+            BodyDef::compound(parts)
+                .at(3.0, 4.0)
+                .angle(0.7)
+                .velocity(1.0, -0.5)
+                .spin(2.0),
+        );
+        scene
+    }
+
+    #[test]
+    fn a_compound_body_has_the_same_mass_centre_and_motion_everywhere() {
+        let scene = compound();
+        let tumble = World::from_scene(&scene, &Limits::default()).unwrap();
+        let settings = *tumble.settings();
+        let (mass, center) = (tumble.mass(0), tumble.local_center(0));
+        // The part geometry's own numbers: a box of 0.5 m² at density 2 (1 kg) and a triangle
+        // of 1 m² at density 1.
+        assert!((mass - 2.0).abs() < 1e-5, "tumble mass {mass}");
+        let mut box2d = Box2d::new(&scene, &settings, 1).unwrap();
+        let (m, c) = box2d.mass(0).unwrap();
+        assert!(
+            (m - mass).abs() <= 1e-6 * mass,
+            "Box2D mass {m}, tumble {mass}"
+        );
+        assert!(
+            (Vec2::from(c) - center).length() < 1e-6,
+            "Box2D centre {c:?}, tumble {center}"
+        );
+        let mut rapier = Rapier::new(&scene, 1).unwrap();
+        let (m, c) = rapier.mass(0);
+        assert!(
+            (m - mass).abs() <= 1e-5 * mass,
+            "Rapier mass {m}, tumble {mass}"
+        );
+        assert!(
+            (Vec2::from(c) - center).length() < 1e-5,
+            "Rapier centre {c:?}, tumble {center}"
+        );
+        // Both start where the scene put the frame, with the centre of mass's velocity, and
+        // turn about the centre of mass: the frames' origins follow the same path.
+        let mut tumble = tumble;
+        for step in 0..=60 {
+            let t = tumble.body(0);
+            let b = box2d.pose(0).unwrap();
+            let r = rapier.pose(0).unwrap();
+            let dt = |p: [f32; 3]| {
+                (t.origin.x - p[0])
+                    .abs()
+                    .max((t.origin.y - p[1]).abs())
+                    .max((t.angle - p[2]).abs())
+            };
+            assert!(dt(b) < 1e-4, "step {step}: tumble {t:?}, Box2D {b:?}");
+            assert!(dt(r) < 1e-3, "step {step}: tumble {t:?}, Rapier {r:?}");
+            let v = box2d.velocity(0).unwrap();
+            assert!(
+                (t.linear_velocity - Vec2::new(v[0], v[1])).length() < 1e-4,
+                "step {step}: tumble {t:?}, Box2D velocity {v:?}"
+            );
+            tumble.step(scene.dt, scene.substeps);
+            box2d.step().unwrap();
+            rapier.step().unwrap();
+        }
+    }
+
+    #[test]
+    fn a_body_created_asleep_stays_asleep_until_touched() {
+        // Gravity on; two boxes in mid-air far apart, nothing under them: one created
+        // asleep (it must not fall), one awake (it falls).
+        let mut scene = SceneDef::new("asleep");
+        let unit = ShapeDef::Box {
+            half_extents: [0.5, 0.5],
+        };
+        scene.push(BodyDef::new(unit.clone()).at(0.0, 10.0).awake(false));
+        scene.push(BodyDef::new(unit.clone()).at(10.0, 10.0));
+        scene.push(
+            BodyDef::new(unit)
+                .kind(BodyKind::Static)
+                .at(-10.0, 0.0)
+                .awake(false),
+        );
+        for sleep in [true, false] {
+            scene.sleep = sleep;
+            let mut tumble = World::from_scene(&scene, &Limits::default()).unwrap();
+            let settings = *tumble.settings();
+            let mut box2d = Box2d::new(&scene, &settings, 1).unwrap();
+            let mut rapier = Rapier::new(&scene, 1).unwrap();
+            tumble.step(scene.dt, scene.substeps);
+            box2d.step().unwrap();
+            rapier.step().unwrap();
+            // With sleep off, `awake: false` is ignored: everything dynamic is awake.
+            let asleep = sleep;
+            assert_eq!(tumble.body(0).awake, !asleep, "tumble, sleep {sleep}");
+            assert_eq!(box2d.is_awake(0).unwrap(), !asleep, "Box2D, sleep {sleep}");
+            assert_eq!(rapier.is_awake(0), !asleep, "Rapier, sleep {sleep}");
+            assert!(tumble.body(1).awake && box2d.is_awake(1).unwrap() && rapier.is_awake(1));
+            let still = |y: f32| (y == 10.0) == asleep;
+            assert!(still(tumble.body(0).position.y), "tumble, sleep {sleep}");
+            assert!(still(box2d.pose(0).unwrap()[1]), "Box2D, sleep {sleep}");
+            assert!(still(rapier.pose(0).unwrap()[1]), "Rapier, sleep {sleep}");
+        }
+    }
+
+    #[test]
+    fn filters_and_groups_keep_the_same_pairs_apart() {
+        // Four boxes dropped on a ground, each pair of parts testing one rule: category/mask
+        // that refuse the ground (falls through), a negative group shared with the ground
+        // (falls through), a positive group shared with the ground whose mask refuses it
+        // (the group wins: it lands), and a default filter (lands).
+        let mut scene = SceneDef::new("filters");
+        scene.sleep = false;
+        let ground = tumble_physics::Filter {
+            category: 1 << 40,
+            mask: u64::MAX,
+            group: 0,
+        };
+        let grouped = |group: i64| tumble_physics::Filter {
+            category: 1 << 40,
+            mask: u64::MAX,
+            group,
+        };
+        scene.push(
+            BodyDef::compound(vec![
+                PartDef::new(ShapeDef::Box {
+                    half_extents: [3.0, 0.5],
+                })
+                .at(-9.0, 0.0, 0.0)
+                .filter(ground),
+                PartDef::new(ShapeDef::Box {
+                    half_extents: [3.0, 0.5],
+                })
+                .at(-3.0, 0.0, 0.0)
+                .filter(grouped(-2)),
+                PartDef::new(ShapeDef::Box {
+                    half_extents: [3.0, 0.5],
+                })
+                .at(3.0, 0.0, 0.0)
+                .filter(grouped(3)),
+                PartDef::new(ShapeDef::Box {
+                    half_extents: [3.0, 0.5],
+                })
+                .at(9.0, 0.0, 0.0)
+                .filter(ground),
+            ])
+            .kind(BodyKind::Static),
+        );
+        let unit = ShapeDef::Box {
+            half_extents: [0.5, 0.5],
+        };
+        let filters = [
+            tumble_physics::Filter {
+                category: 2,
+                mask: 2,
+                group: 0,
+            },
+            tumble_physics::Filter {
+                category: 1 << 40,
+                mask: u64::MAX,
+                group: -2,
+            },
+            tumble_physics::Filter {
+                category: 2,
+                mask: 2,
+                group: 3,
+            },
+            tumble_physics::Filter::default(),
+        ];
+        for (k, f) in filters.into_iter().enumerate() {
+            scene.push(
+                BodyDef::new(unit.clone())
+                    .at(-9.0 + 6.0 * k as f32, 1.6)
+                    .filter(f),
+            );
+        }
+        let lands = [false, false, true, true];
+        let mut tumble = World::from_scene(&scene, &Limits::default()).unwrap();
+        let settings = *tumble.settings();
+        let mut peers: Vec<(&str, Box<dyn Peer>)> = vec![
+            ("Box2D", Box::new(Box2d::new(&scene, &settings, 1).unwrap())),
+            ("Rapier", Box::new(Rapier::new(&scene, 1).unwrap())),
+        ];
+        for _ in 0..90 {
+            tumble.step(scene.dt, scene.substeps);
+            for (_, p) in &mut peers {
+                p.step().unwrap();
+            }
+        }
+        for (k, &land) in lands.iter().enumerate() {
+            let i = k + 1;
+            let y = tumble.body(i).position.y;
+            assert_eq!(y > 0.0, land, "tumble, box {k}: y {y}");
+            for (name, p) in &mut peers {
+                let y = p.pose(i).unwrap()[1];
+                assert_eq!(y > 0.0, land, "{name}, box {k}: y {y}");
+            }
+        }
+    }
 }

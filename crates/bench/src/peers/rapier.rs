@@ -1,27 +1,65 @@
 //! A scene in Rapier2D (feature `parallel`).
 //!
-//! Mapping: each tumble body is one rigid body with one collider: boxes are cuboids, other
-//! polygons convex polylines of tumble's centroid-recentred vertices (counter-clockwise, as
-//! the scene requires), circles balls. Friction: each collider gets its body's coefficient and
-//! `CoefficientCombineRule::GeometricMean`, which is exactly tumble's `sqrt(a * b)` for every
-//! pair (equal coefficients or not). Restitution: `CoefficientCombineRule::Max`, tumble's rule.
-//! `dt` is the scene's; `num_solver_iterations` = the scene's substeps (Rapier's substeps);
-//! sleeping off on every body; CCD off (`max_ccd_substeps = 0`, the world-wide switch, and no
-//! body asks for it); all other integration parameters are Rapier's defaults. The step runs
-//! inside a rayon pool of `threads` threads.
+//! Mapping: each tumble body is one rigid body (fixed, dynamic, or kinematic velocity-based)
+//! at the body frame's position and angle, with its velocity (both take the centre of mass's),
+//! damping, `gravity_scale` and `fixed_rotation` (`lock_rotations`), and one collider per part
+//! ([`part_shape`]) placed in the body's frame: boxes are cuboids at the part's offset and
+//! angle, polygons convex polylines of their vertices in the body's frame (a body of one
+//! shape: tumble's centroid-recentred vertices; counter-clockwise, as the scene requires),
+//! circles balls at their centre. Rapier computes the mass, centre of mass and inertia from
+//! the colliders' densities as tumble does. Friction: each collider gets its part's coefficient
+//! and `CoefficientCombineRule::GeometricMean`, which is exactly tumble's `sqrt(a * b)` for
+//! every pair (equal coefficients or not). Restitution: `CoefficientCombineRule::Max`, tumble's
+//! rule. A sensor part is a sensor collider (it still adds its mass, as in tumble and Box2D).
+//!
+//! Filters: Rapier's `InteractionGroups` are 32-bit `memberships` and `filter`, tested as
+//! tumble tests `category` against `mask`. tumble's are 64-bit: the category bits the scene
+//! uses are numbered into Rapier's 32 (kept as they are when they all lie in the low 32 bits;
+//! a mask bit that no category uses can never match, so dropping it changes nothing), and a
+//! scene whose categories use more than 32 distinct bits is refused. Box2D's group rule
+//! (two shapes of one non-zero group always touch when it is positive, never when negative,
+//! whatever their categories) has no counterpart in the groups: a collider of a non-zero group
+//! gets all groups, and a contact pair filter hook (`ActiveHooks::FILTER_CONTACT_PAIRS`,
+//! [`GroupRule`]) applies the whole rule to its pairs from each collider's filter packed into
+//! `user_data`. Only scenes with a non-zero group step with the hook.
+//!
+//! Sleep: a world that does not sleep (`sleep: false`) and a body with `enable_sleep: false`
+//! get `can_sleep(false)` (Rapier's thresholds at -1); a body with `awake: false` starts
+//! asleep (`sleeping(true)`) where tumble starts it asleep (a dynamic body in a world that
+//! sleeps), even when it may not fall asleep again. The thresholds: Rapier's
+//! `normalized_linear_threshold` is the scene's `solver.sleep_threshold` (length unit 1 m;
+//! 0.05 m/s, Box2D's and tumble's default, is also Rapier's) and `time_until_sleep` its
+//! `time_to_sleep` (0.5 s, also Rapier's default). The tests differ: tumble and Box2D let a
+//! body rest when `max(|v|, |w| · extent)` stays below the threshold, Rapier when half its
+//! farthest point's displacement over the step, `(|v| + |w| · extent) · dt / 2` roughly
+//! (solver position corrections included), stays below `threshold · dt`: between the same and
+//! twice as lenient, so Rapier may fall asleep sooner. Its angular threshold only gates
+//! collider-less bodies (and a π/2 rad/s cap), so it keeps its default. Islands sleep as a
+//! whole in all three.
+//!
+//! Integration: `dt` is the scene's; `num_solver_iterations` = the scene's substeps (Rapier's
+//! substeps); CCD off (`max_ccd_substeps = 0`, the world-wide switch, and no body asks for it;
+//! tumble has none); all other integration parameters are Rapier's defaults. A scene with a
+//! script ([`super::script`], junkyard's pusher) runs it before each step: a target transform
+//! becomes the velocity that reaches it in one step, computed as tumble's
+//! `World::set_target_transform` does. The step runs inside a rayon pool of `threads` threads.
 
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, bail};
 use rapier2d::prelude::*;
 use rapier2d::rayon;
-use tumble_physics::{BodyKind, SceneDef, Shape, ShapeDef as TumbleShape};
+use tumble_physics::{BodyKind, SceneDef};
 
-use super::Peer;
+use super::{PartShape, Peer, Script, Targets, part_shape, scene_settings};
 
 /// A Rapier world holding a tumble scene.
 pub struct Rapier {
     world: PhysicsWorld,
     handles: Vec<RigidBodyHandle>,
     pool: rayon::ThreadPool,
+    /// Whether a collider has a non-zero group (the world steps with [`GroupRule`]).
+    groups: bool,
+    script: Option<Script>,
+    steps: u64,
 }
 
 /// Knobs of Rapier's solver that the accuracy report sweeps; `None` keeps Rapier's default.
@@ -42,6 +80,75 @@ pub fn version() -> &'static str {
     rapier2d::VERSION
 }
 
+/// tumble's 64-bit category bits numbered into Rapier's 32 groups.
+struct Bits {
+    /// The category bits some part of the scene uses, in order; `None`: all lie in the low
+    /// 32 bits and keep their places.
+    used: Option<Vec<u32>>,
+}
+
+impl Bits {
+    fn of(scene: &SceneDef) -> Result<Bits> {
+        let mut all = 0u64;
+        for b in &scene.bodies {
+            for p in b.parts() {
+                all |= p.filter.category;
+            }
+        }
+        if all >> 32 == 0 {
+            return Ok(Bits { used: None });
+        }
+        if all.count_ones() > 32 {
+            bail!(
+                "the scene's filters use {} category bits; Rapier's interaction groups have 32",
+                all.count_ones()
+            );
+        }
+        Ok(Bits {
+            used: Some((0..64).filter(|k| all >> k & 1 == 1).collect()),
+        })
+    }
+
+    /// `bits` in Rapier's numbering (bits no category uses are dropped).
+    fn map(&self, bits: u64) -> u32 {
+        match &self.used {
+            None => bits as u32,
+            Some(used) => used
+                .iter()
+                .enumerate()
+                .filter(|&(_, &k)| bits >> k & 1 == 1)
+                .fold(0, |out, (i, _)| out | 1 << i),
+        }
+    }
+}
+
+/// A collider's filter in its `user_data`: Rapier-numbered category (bits 0-31) and mask
+/// (32-63), and the group (64-127).
+fn pack(category: u32, mask: u32, group: i64) -> u128 {
+    u128::from(category) | u128::from(mask) << 32 | u128::from(group as u64) << 64
+}
+
+fn unpack(data: u128) -> (u32, u32, i64) {
+    (data as u32, (data >> 32) as u32, (data >> 64) as u64 as i64)
+}
+
+/// Box2D's group rule as a Rapier contact pair filter (`b2ShouldShapesCollide`, tumble's
+/// `Filter::should_collide`), on the filters packed into the colliders' `user_data`.
+struct GroupRule;
+
+impl PhysicsHooks for GroupRule {
+    fn filter_contact_pair(&self, context: &PairFilterContext<'_>) -> Option<SolverFlags> {
+        let (c1, m1, g1) = unpack(context.colliders[context.collider1].user_data);
+        let (c2, m2, g2) = unpack(context.colliders[context.collider2].user_data);
+        let touch = if g1 == g2 && g1 != 0 {
+            g1 > 0
+        } else {
+            c1 & m2 != 0 && c2 & m1 != 0
+        };
+        touch.then_some(SolverFlags::COMPUTE_RIGID_IMPULSES)
+    }
+}
+
 impl Rapier {
     /// Builds the scene.
     pub fn new(scene: &SceneDef, threads: usize) -> Result<Rapier> {
@@ -55,6 +162,7 @@ impl Rapier {
             .thread_name(|i| format!("rapier-bench-{i}"))
             .build()
             .context("cannot start Rapier's thread pool")?;
+        let settings = scene_settings(scene)?;
         let mut world = PhysicsWorld {
             gravity: Vector::new(scene.gravity[0], scene.gravity[1]),
             ..PhysicsWorld::default()
@@ -73,6 +181,8 @@ impl Rapier {
         if let Some(v) = tuning.max_corrective_velocity {
             params.normalized_max_corrective_velocity = v;
         }
+        let bits = Bits::of(scene)?;
+        let mut groups = false;
         let mut handles = Vec::with_capacity(scene.bodies.len());
         for (i, b) in scene.bodies.iter().enumerate() {
             let builder = match b.kind {
@@ -80,6 +190,7 @@ impl Rapier {
                 BodyKind::Dynamic => RigidBodyBuilder::dynamic(),
                 BodyKind::Kinematic => RigidBodyBuilder::kinematic_velocity_based(),
             };
+            let asleep = !b.awake && scene.sleep && b.kind == BodyKind::Dynamic;
             let mut builder = builder
                 .translation(Vector::new(b.position[0], b.position[1]))
                 .rotation(b.angle)
@@ -87,47 +198,134 @@ impl Rapier {
                 .angvel(b.angular_velocity)
                 .linear_damping(b.linear_damping)
                 .angular_damping(b.angular_damping)
-                .can_sleep(false)
+                .gravity_scale(b.gravity_scale)
+                .can_sleep(true)
+                .sleeping(asleep)
                 .ccd_enabled(false);
             if b.fixed_rotation {
                 builder = builder.lock_rotations();
             }
-            let shape = Shape::from_def(&b.shape)
-                .map_err(|e| anyhow::anyhow!("Rapier body {i}: bad polygon: {e}"))?;
-            let collider = match (&b.shape, shape) {
-                (TumbleShape::Box { half_extents }, _) => {
-                    ColliderBuilder::cuboid(half_extents[0], half_extents[1])
-                }
-                (_, Shape::Circle(c)) => ColliderBuilder::ball(c.radius),
-                (_, Shape::Polygon(p)) => {
-                    let points: Vec<Vector> =
-                        p.points().iter().map(|v| Vector::new(v.x, v.y)).collect();
-                    ColliderBuilder::convex_polyline(points).with_context(|| {
-                        format!("Rapier body {i}: the polygon is not convex for Rapier")
-                    })?
-                }
-            };
-            let collider = collider
-                .density(b.density)
-                .friction(b.friction)
-                .friction_combine_rule(CoefficientCombineRule::GeometricMean)
-                .restitution(b.restitution)
-                .restitution_combine_rule(CoefficientCombineRule::Max);
-            let (handle, _) = world.insert(builder, collider);
+            let handle = world.insert_body(builder);
+            for (k, part) in b.parts().iter().enumerate() {
+                let what = || format!("Rapier body {i}, part {k}");
+                let collider = match part_shape(part).with_context(what)? {
+                    PartShape::Box {
+                        half_extents: [hx, hy],
+                        center,
+                        angle,
+                    } => ColliderBuilder::cuboid(hx, hy)
+                        .translation(Vector::from(center))
+                        .rotation(angle),
+                    PartShape::Circle { center, radius } => {
+                        ColliderBuilder::ball(radius).translation(Vector::from(center))
+                    }
+                    PartShape::Polygon(points) => ColliderBuilder::convex_polyline(
+                        points.into_iter().map(Vector::from).collect(),
+                    )
+                    .with_context(|| format!("{}: the polygon is not convex for Rapier", what()))?,
+                };
+                let f = part.filter;
+                let (category, mask) = (bits.map(f.category), bits.map(f.mask));
+                let collider = collider
+                    .density(part.density)
+                    .friction(part.friction)
+                    .friction_combine_rule(CoefficientCombineRule::GeometricMean)
+                    .restitution(part.restitution)
+                    .restitution_combine_rule(CoefficientCombineRule::Max)
+                    .sensor(part.sensor)
+                    .user_data(pack(category, mask, f.group));
+                let collider = if f.group == 0 {
+                    collider.collision_groups(InteractionGroups::new(
+                        Group::from_bits_retain(category),
+                        Group::from_bits_retain(mask),
+                        InteractionTestMode::And,
+                    ))
+                } else {
+                    groups = true;
+                    collider
+                        .collision_groups(InteractionGroups::all())
+                        .active_hooks(ActiveHooks::FILTER_CONTACT_PAIRS)
+                };
+                world.insert_collider(collider, Some(handle));
+            }
+            // After the colliders (which could wake it): whether and when it may sleep.
+            let activation = world.bodies[handle].activation_mut();
+            if scene.sleep && b.enable_sleep {
+                activation.normalized_linear_threshold = settings.sleep_threshold;
+                activation.time_until_sleep = settings.time_to_sleep;
+            } else {
+                activation.normalized_linear_threshold = -1.0;
+                activation.angular_threshold = -1.0;
+            }
             handles.push(handle);
         }
         Ok(Rapier {
             world,
             handles,
             pool,
+            groups,
+            script: super::script(&scene.name),
+            steps: 0,
         })
+    }
+
+    /// Whether body `index` is awake (not `is_sleeping`).
+    #[cfg(test)]
+    pub fn is_awake(&self, index: usize) -> bool {
+        !self.world.bodies[self.handles[index]].is_sleeping()
+    }
+
+    /// Body `index`'s mass and centre of mass in its frame.
+    #[cfg(test)]
+    pub fn mass(&self, index: usize) -> (f32, [f32; 2]) {
+        let body = &self.world.bodies[self.handles[index]];
+        let c = body.local_center_of_mass();
+        (body.mass(), [c.x, c.y])
+    }
+}
+
+impl Targets for Rapier {
+    fn body_count(&self) -> usize {
+        self.handles.len()
+    }
+
+    /// As tumble's `World::set_target_transform`: the centre of mass's velocity to reach the
+    /// target's centre of mass in `dt`, and the short way round to its angle.
+    fn set_target_transform(
+        &mut self,
+        index: usize,
+        position: [f32; 2],
+        angle: f32,
+        dt: f32,
+    ) -> Result<()> {
+        if !(dt.is_normal() && dt > 0.0) {
+            bail!("Rapier target transform: a time step > 0, not {dt}");
+        }
+        let body = &mut self.world.bodies[self.handles[index]];
+        let q = Rotation::new(angle);
+        let target = Vector::from(position) + q * body.local_center_of_mass();
+        let v = (target - body.center_of_mass()) / dt;
+        let turn = body.rotation().inverse() * q;
+        let w = turn.sin().atan2(turn.cos()) / dt;
+        body.set_linvel(v, true);
+        body.set_angvel(w, true);
+        Ok(())
     }
 }
 
 impl Peer for Rapier {
     fn step(&mut self) -> Result<()> {
+        if let Some(script) = self.script {
+            script(self.steps, self)?;
+        }
+        self.steps += 1;
         let world = &mut self.world;
-        self.pool.install(|| world.step());
+        if self.groups {
+            self.pool
+                .install(|| world.step_with_events(&GroupRule, &()));
+        } else {
+            self.pool.install(|| world.step());
+        }
         Ok(())
     }
 

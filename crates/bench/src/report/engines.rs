@@ -292,8 +292,9 @@ impl Peer for TumbleSim {
     }
 
     fn pose(&mut self, index: usize) -> Result<[f32; 3]> {
+        // The frame's origin, as the peers report it (the centre of mass for one shape).
         let b = self.world.body(index);
-        Ok([b.position.x, b.position.y, b.angle])
+        Ok([b.origin.x, b.origin.y, b.angle])
     }
 
     fn velocity(&mut self, index: usize) -> Result<[f32; 3]> {
