@@ -94,8 +94,9 @@ impl Camera {
 pub fn world_bounds(world: &World) -> Aabb {
     let union = |statics: bool| {
         let mut bounds: Option<Aabb> = None;
-        // Every shape of every live body (both walk the live shapes in slot order).
-        for (shape, b) in world.shapes().zip(world.fat_aabbs()) {
+        // Every shape of every live body.
+        for shape in world.shapes() {
+            let b = shape.fat_aabb;
             if !statics && world.body(shape.body).kind == BodyKind::Static {
                 continue;
             }

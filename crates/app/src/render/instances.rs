@@ -394,8 +394,8 @@ impl Instances {
     pub fn add_debug(&mut self, world: &World, debug: &DebugDraw, camera: &Camera) {
         let px = 1.0 / camera.pixels_per_metre;
         if debug.aabbs {
-            // Both walk the live shapes in slot order.
-            for (view, b) in world.shapes().zip(world.fat_aabbs()) {
+            for view in world.shapes() {
+                let b = view.fat_aabb;
                 let c = match world.body(view.body).kind {
                     BodyKind::Static => [0.5, 0.7, 0.5, 0.6],
                     BodyKind::Kinematic => [0.7, 0.6, 1.0, 0.6],

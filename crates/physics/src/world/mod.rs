@@ -83,6 +83,8 @@ pub struct ShapeView<'a> {
     pub part: usize,
     /// Whether it is a sensor.
     pub sensor: bool,
+    /// Its fat bounding box, as the broad phase sees it.
+    pub fat_aabb: Aabb,
 }
 
 /// A contact as the outside sees it (for debug drawing and tests).

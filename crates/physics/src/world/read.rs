@@ -154,6 +154,7 @@ impl World {
             },
             part: r.part as usize,
             sensor: r.sensor,
+            fat_aabb: self.fat_aabbs[s],
         }
     }
 
@@ -167,13 +168,6 @@ impl World {
     /// The fat bounding box of the first shape of body `index`, as the broad phase sees it.
     pub fn fat_aabb(&self, index: usize) -> Aabb {
         self.fat_aabbs[self.records[index].first_shape as usize]
-    }
-
-    /// Every live shape's fat bounding box.
-    pub fn fat_aabbs(&self) -> impl Iterator<Item = Aabb> + '_ {
-        (0..self.shapes.len())
-            .filter(|&s| self.shape_slots.is_alive(s))
-            .map(|s| self.fat_aabbs[s])
     }
 
     /// The broad phase's tree, for debug drawing.
