@@ -23,7 +23,10 @@ impl Geometry {
         let shapes: Vec<Shape> = scene
             .bodies
             .iter()
-            .map(|b| Shape::from_def(b.first_shape().expect("a body has a shape")).expect("a validated scene's shapes build"))
+            .map(|b| {
+                Shape::from_def(b.first_shape().expect("a body has a shape"))
+                    .expect("a validated scene's shapes build")
+            })
             .collect();
         let kinds: Vec<BodyKind> = scene.bodies.iter().map(|b| b.kind).collect();
         let reach = shapes
