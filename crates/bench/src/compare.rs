@@ -9,8 +9,10 @@ use clap::Args;
 /// Default `--warmup`: steps untimed before a run's timed ones.
 const WARMUP_STEPS: u32 = 10;
 
-/// Default scenes: Box2D's own benchmark scenes that tumble builds the same way.
-const DEFAULT_SCENES: &str = "large_pyramid,many_pyramids,smash";
+/// Default scenes: Box2D's own benchmark scenes that tumble builds the same way (smash,
+/// compounds and junkyard sleeping, as Box2D's benchmark runs them; junkyard's pusher driven
+/// in every engine).
+const DEFAULT_SCENES: &str = "large_pyramid,many_pyramids,smash,compounds,junkyard";
 
 /// Most threads the peers take (Box2D's worker count is 1 to 32).
 pub(crate) const MAX_PEER_THREADS: u32 = 32;
