@@ -254,6 +254,18 @@ fn destroying_the_ground_wakes_what_rests_on_it_and_it_falls() {
 }
 
 #[test]
+fn moving_the_ground_wakes_what_sleeps_on_it() {
+    let mut w = pyramid(4);
+    step_checked(&mut w, 240);
+    assert_eq!(w.awake_body_count(), 0);
+    w.set_transform(BodyId::scene(0), Vec2::new(0.0, -3.0), 0.0)
+        .unwrap();
+    assert_eq!(w.awake_body_count(), w.live_body_count() - 1);
+    step_checked(&mut w, 30);
+    assert!(w.body(1).position.y < 0.0, "{:?}", w.body(1).position);
+}
+
+#[test]
 fn run_time_changes_keep_every_store_consistent() {
     let mut w = pyramid(5);
     step_checked(&mut w, 30);

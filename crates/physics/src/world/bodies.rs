@@ -385,7 +385,8 @@ impl World {
                 c.cache = None;
             }
         }
-        self.wake_body(i as u32);
+        // What rested on it (a static ground moved away) must notice.
+        self.wake_touching(i as u32);
         self.refresh_shape_boxes(i as u32);
         self.debug_validate();
         Ok(())
