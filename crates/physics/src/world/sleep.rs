@@ -108,7 +108,7 @@ impl World {
     /// `time_to_sleep` falls asleep, unless a constraint inside it went since it was whole;
     /// then the largest such island is split this step (Box2D splits one per step too), and
     /// its parts may sleep from the next.
-    pub(super) fn update_sleep(&mut self, _dt: f32) {
+    pub(super) fn update_sleep(&mut self) {
         if !self.settings.enable_sleep {
             return;
         }

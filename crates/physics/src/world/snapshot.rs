@@ -5,7 +5,7 @@ use super::{
 };
 use crate::error::SceneError;
 use crate::id::Slots;
-use crate::island::{Islands, NO_ISLAND};
+use crate::island::Islands;
 use crate::scene::BodyKind;
 use crate::shape::{Aabb, Shape};
 use crate::solver::contact_solver::BodyState;
@@ -215,7 +215,6 @@ impl World {
             .collect();
         world.islands = snapshot.islands;
         world.islands.grow(n);
-        let _ = NO_ISLAND;
         world.steps = snapshot.steps;
         world.speed_caps = snapshot.speed_caps;
         world.non_finite_bodies = snapshot.non_finite_bodies;

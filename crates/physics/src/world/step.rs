@@ -84,7 +84,7 @@ impl World {
 
         let t = Instant::now();
         self.finalize(dt, spread);
-        self.update_sleep(dt);
+        self.update_sleep();
         profile.finalize_ms = ms(t);
 
         profile.inline = crew.is_none();
