@@ -1092,11 +1092,13 @@ fn validate_body(index: usize, body: &BodyDef) -> Result<(), SceneError> {
             }
         }
         // Validation above has checked the polygon, so this cannot fail.
-        let Ok(shape) = crate::shape::Shape::from_def(part.shape) else {
+        let Ok((shape, local)) = crate::body::part_geometry(part) else {
             return Ok(());
         };
-        // The world's step works in f32; shapes beyond this scale lose all precision.
-        let extent = shape.extent() + part.offset[0].abs().max(part.offset[1].abs());
+        // The world's step works in f32; shapes beyond this scale lose all precision. A
+        // part's reach from the body's origin counts (its offset and, for a polygon given
+        // away from its frame, its centroid).
+        let extent = shape.extent() + local.p.length();
         if extent > 1.0e5 {
             return Err(err(
                 &field("shape"),
