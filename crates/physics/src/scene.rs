@@ -758,6 +758,20 @@ impl SceneDef {
                 max: limits.max_bodies,
             });
         }
+        // A shape costs the step what a body of one shape does: the body limit bounds the
+        // shapes of all bodies too (a few bodies of a million parts each are refused).
+        let shapes: usize = self.bodies.iter().map(|b| b.shapes.len().max(1)).sum();
+        if shapes > limits.max_bodies {
+            return Err(scene_err(
+                "bodies",
+                format!("{shapes} shapes in all (the parts of its bodies)"),
+                &format!(
+                    "at most {} shapes, the body limit; raise it (runner flag --max-bodies) if \
+                     you mean it",
+                    limits.max_bodies
+                ),
+            ));
+        }
         self.solver.validate()?;
         for (index, body) in self.bodies.iter().enumerate() {
             validate_body(index, body)?;

@@ -601,6 +601,15 @@ mod tests {
                 &["bad.ron", "body 1", field],
             );
         }
+        // The body limit bounds the shapes of all bodies too.
+        let many = format!(
+            "(bodies: [(shapes: [{}])])",
+            "(shape: Circle(radius: 1.0)),".repeat(Limits::default().max_bodies + 1)
+        );
+        expect_err(
+            ron(&many, "many.ron"),
+            &["many.ron", "200001 shapes", "--max-bodies"],
+        );
         // A typo in a part's field lists the allowed ones.
         expect_err(
             ron(
