@@ -50,6 +50,12 @@ pub fn part_geometry(part: &ResolvedPart<'_>) -> Result<(Shape, Transform), Poly
 }
 
 impl BodyMass {
+    /// Whether the step can divide by `x` (a mass or an inertia): a normal f32 whose inverse
+    /// is normal too (not zero, subnormal or infinite).
+    pub fn invertible(x: f32) -> bool {
+        x.is_normal() && (1.0 / x).is_normal()
+    }
+
     /// The mass data of shapes placed on a body by their local transforms, each with its
     /// density. For one shape at the origin this is exactly that shape's mass and inertia,
     /// bit for bit (every term added to it is zero).

@@ -1136,7 +1136,7 @@ fn validate_body(index: usize, body: &BodyDef) -> Result<(), SceneError> {
     // The step divides by the mass and the rotational inertia: each must be a normal f32
     // (not zero, not subnormal, not infinite), or its inverse is infinite or zero and the
     // body's state turns non-finite in its first contact.
-    let invertible = |x: f32| x.is_normal() && (1.0 / x).is_normal();
+    let invertible = crate::body::BodyMass::invertible;
     {
         if !invertible(md.mass) {
             return Err(err(

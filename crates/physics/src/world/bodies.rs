@@ -131,7 +131,7 @@ impl World {
         BodyId { index, generation }
     }
 
-    /// Adds one shape to body `body`'s list (its first), with a fat box to come.
+    /// Adds one shape at the end of body `body`'s list, with a fat box to come.
     pub(super) fn insert_shape(
         &mut self,
         body: u32,
@@ -203,6 +203,14 @@ impl World {
         })
     }
 
+    /// The mass data of body `i`'s shapes as they are placed on it.
+    pub(super) fn shapes_mass(&self, i: usize) -> BodyMass {
+        BodyMass::of_shapes(self.shapes_of_body(i).map(|s| {
+            let r = &self.shape_records[s as usize];
+            (&self.shapes[s as usize], r.local, r.density)
+        }))
+    }
+
     /// The one place a body's mass data are computed from its shapes and kind, and every
     /// copy refreshed: the solver's masses, the motion flags, each shape's pose relative to
     /// the centre, and the masses the body's contacts keep. The centre of mass keeps its
@@ -211,10 +219,7 @@ impl World {
         let i = body as usize;
         let kind = self.sims[i].kind;
         let shape_ids: Vec<u32> = self.shapes_of_body(i).collect();
-        let md = BodyMass::of_shapes(shape_ids.iter().map(|&s| {
-            let r = &self.shape_records[s as usize];
-            (&self.shapes[s as usize], r.local, r.density)
-        }));
+        let md = self.shapes_mass(i);
         let dynamic = kind == BodyKind::Dynamic;
         let center = if dynamic { md.center } else { Vec2::ZERO };
         // Keep the frame's origin where it is.
@@ -409,6 +414,12 @@ impl World {
                 why: "a finite pose and a time step > 0".into(),
             });
         }
+        if self.sims[i].kind == BodyKind::Static {
+            return Err(WorldError::Invalid {
+                what: format!("{id}"),
+                why: "a static body does not move; make it kinematic first".into(),
+            });
+        }
         let sim = self.sims[i];
         let c = self.records[i].local_center;
         let q = Rot::from_angle(angle);
@@ -417,12 +428,6 @@ impl World {
         // The turn from the current angle to the target's, the short way round.
         let dq = sim.xf.q.inv_mul(q);
         let w = dq.s.atan2(dq.c) / dt;
-        if self.sims[i].kind == BodyKind::Static {
-            return Err(WorldError::Invalid {
-                what: format!("{id}"),
-                why: "a static body does not move; make it kinematic first".into(),
-            });
-        }
         self.wake_body(i as u32);
         let st = &mut self.states[i];
         st.v = v;
@@ -438,12 +443,8 @@ impl World {
             return Ok(());
         }
         if kind == BodyKind::Dynamic {
-            let md = BodyMass::of_shapes(self.shapes_of_body(i).map(|s| {
-                let r = &self.shape_records[s as usize];
-                (&self.shapes[s as usize], r.local, r.density)
-            }));
-            let invertible = |x: f32| x.is_normal() && (1.0 / x).is_normal();
-            if !invertible(md.mass) {
+            let md = self.shapes_mass(i);
+            if !BodyMass::invertible(md.mass) {
                 return Err(WorldError::Invalid {
                     what: format!("{id} made dynamic"),
                     why: format!(

@@ -12,6 +12,7 @@ use glam::Vec2;
 use super::{ContactKey, World, pair_key};
 use crate::island::NO_ISLAND;
 use crate::scene::BodyKind;
+use crate::solver::NOT_DYNAMIC;
 
 impl World {
     /// Touch changes (reads each contact's key; writes islands, awake flags, the contact
@@ -77,7 +78,11 @@ impl World {
         let threshold = self.settings.sleep_threshold;
         let mut woke = false;
         for k in 0..self.contacts.len() {
-            if !self.contact_keys[k].touching {
+            // Only a touching contact of one dynamic body and one that is not can be a
+            // kinematic body's: the compact key says so without reading the contact.
+            let key = &self.contact_keys[k];
+            let [a, b] = key.dynamic;
+            if !key.touching || (a == NOT_DYNAMIC) == (b == NOT_DYNAMIC) {
                 continue;
             }
             let c = &self.contacts[k];

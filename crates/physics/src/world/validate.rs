@@ -2,7 +2,6 @@
 //! [`World::validate`] after every change and step, and debug builds after every API change.
 
 use super::{ContactKey, NONE, World, pair_key};
-use crate::body::BodyMass;
 use crate::island::NO_ISLAND;
 use crate::scene::BodyKind;
 
@@ -51,10 +50,7 @@ impl World {
                 return Err(format!("body {i} has no shape"));
             }
             // Mass data: exactly what a fresh computation gives.
-            let md = BodyMass::of_shapes(self.shapes_of_body(i).map(|s| {
-                let r = &self.shape_records[s as usize];
-                (&self.shapes[s as usize], r.local, r.density)
-            }));
+            let md = self.shapes_mass(i);
             let sb = self.solver_bodies[i];
             let dynamic = kind == BodyKind::Dynamic;
             let inv_mass = if dynamic && md.mass > 0.0 {
