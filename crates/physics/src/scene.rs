@@ -309,8 +309,9 @@ pub struct BodyDef {
     #[serde(default = "yes", skip_serializing_if = "is_true")]
     #[cfg_attr(feature = "schema", schemars(extend("default" = true)))]
     pub enable_sleep: bool,
-    /// A dynamic body that never passes through other dynamic bodies either. Continuous
-    /// collision is not built yet (issue 18): accepted and kept.
+    /// A dynamic body that never passes through other dynamic bodies either: its pairs with
+    /// moving bodies are found by its swept box, as every body's are with static ones
+    /// ([`World::set_bullet`](crate::World::set_bullet)). Time of impact is not built yet.
     #[serde(default, skip_serializing_if = "is_false")]
     #[cfg_attr(feature = "schema", schemars(extend("default" = false)))]
     pub bullet: bool,
@@ -460,6 +461,11 @@ impl BodyDef {
     /// Builder: gravity scale.
     pub fn gravity_scale(mut self, scale: f32) -> Self {
         self.gravity_scale = scale;
+        self
+    }
+    /// Builder: a bullet (see [`BodyDef::bullet`]).
+    pub fn bullet(mut self, bullet: bool) -> Self {
+        self.bullet = bullet;
         self
     }
 }

@@ -22,6 +22,12 @@ pub struct Aabb {
 }
 
 impl Aabb {
+    /// A box that overlaps every finite box.
+    pub const EVERYWHERE: Aabb = Aabb {
+        min: Vec2::splat(f32::MIN),
+        max: Vec2::splat(f32::MAX),
+    };
+
     /// Whether two boxes overlap (touching counts).
     #[inline]
     pub fn overlaps(&self, other: &Aabb) -> bool {

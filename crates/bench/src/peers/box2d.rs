@@ -20,8 +20,10 @@
 //! (0.5 s, tumble's default): a scene's other `solver.time_to_sleep` is not passed on.
 //!
 //! World: tumble's gravity, contact hertz, damping ratio, push-out speed, restitution threshold
-//! and speed cap; continuous collision off (tumble has none, so `bullet` and the scene's
-//! `continuous` are not passed on); contact events off (tumble produces none); `threads`
+//! and speed cap; continuous collision off (tumble has no time of impact; its swept boxes,
+//! a speculative stand-in, are always on against static bodies and for `bullet`s, which are
+//! passed on as `isBullet` but do nothing in Box2D with continuous off; the scene's
+//! `continuous` is not passed on); contact events off (tumble produces none); `threads`
 //! workers (Box2D's own scheduler: the caller plus `threads - 1` threads). A scene with a
 //! script ([`super::script`], junkyard's pusher) runs it before each step through
 //! `b2Body_SetTargetTransform`.
@@ -116,6 +118,7 @@ impl Box2d {
                     .enable_sleep(b.enable_sleep)
                     .sleep_threshold(settings.sleep_threshold)
                     .awake(!asleep)
+                    .bullet(b.bullet)
                     .motion_locks(MotionLocks::new(false, false, b.fixed_rotation))
                     .build(),
                 &what,

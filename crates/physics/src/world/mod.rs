@@ -158,6 +158,9 @@ struct BodyRecord {
     angular_damping: f32,
     gravity_scale: f32,
     enable_sleep: bool,
+    /// Its pairs with moving bodies are found by swept boxes too (see `core_aabbs`).
+    #[serde(default)]
+    bullet: bool,
 }
 
 /// A shape on a body.
@@ -283,8 +286,17 @@ pub struct World {
     shape_records: Vec<ShapeRecord>,
     /// Each shape's body (a compact copy of `ShapeRecord::body` for the broad phase).
     shape_body: Vec<u32>,
+    /// Each shape's fat box, swept along its body's velocity over a step: the broad phase's
+    /// proxies. A pair with a static body needs these to overlap, so that a fast body meets
+    /// a wall a step early and its speculative contact stops it (tumble has no time of
+    /// impact yet).
     fat_aabbs: Vec<Aabb>,
-    /// Proxies whose fat box changed since the last pair search.
+    /// Each shape's fat box without the sweep along its velocity. A pair of two moving
+    /// bodies needs these to overlap too (Box2D's pairs: fat boxes, no sweep): bodies that
+    /// fall side by side then make no pair. A shape of a static body or a bullet has
+    /// [`Aabb::EVERYWHERE`], so its pairs go by the swept boxes alone.
+    core_aabbs: Vec<Aabb>,
+    /// Proxies whose fat or core box changed since the last pair search.
     moved: Vec<u32>,
     moved_flags: Vec<bool>,
     /// Scratch: each moved proxy's place in `moved` (the tree walk's creation order).
@@ -336,6 +348,7 @@ impl World {
             shape_records: Vec::new(),
             shape_body: Vec::new(),
             fat_aabbs: Vec::new(),
+            core_aabbs: Vec::new(),
             moved: Vec::new(),
             moved_flags: Vec::new(),
             moved_rank: Vec::new(),
@@ -384,6 +397,7 @@ impl World {
         self.sims.reserve(n);
         self.states.reserve(n);
         self.fat_aabbs.reserve(n);
+        self.core_aabbs.reserve(n);
     }
 
     /// The step's settings.

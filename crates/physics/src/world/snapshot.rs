@@ -30,6 +30,7 @@ pub struct WorldSnapshot {
     shapes: Vec<Shape>,
     shape_records: Vec<ShapeRecord>,
     fat_aabbs: Vec<Aabb>,
+    core_aabbs: Vec<Aabb>,
     moved: Vec<u32>,
     contacts: Vec<Contact>,
     islands: Islands,
@@ -56,6 +57,7 @@ impl WorldSnapshot {
             + size_of_val(&self.shapes[..])
             + size_of_val(&self.shape_records[..])
             + size_of_val(&self.fat_aabbs[..])
+            + size_of_val(&self.core_aabbs[..])
             + size_of_val(&self.moved[..])
             + size_of_val(&self.contacts[..])
             + self
@@ -89,6 +91,7 @@ impl World {
             shapes: self.shapes.clone(),
             shape_records: self.shape_records.clone(),
             fat_aabbs: self.fat_aabbs.clone(),
+            core_aabbs: self.core_aabbs.clone(),
             moved: self.moved.clone(),
             contacts: self.contacts.clone(),
             islands: self.islands.clone(),
@@ -125,6 +128,7 @@ impl World {
         if [
             snapshot.shape_records.len(),
             snapshot.fat_aabbs.len(),
+            snapshot.core_aabbs.len(),
             snapshot.shape_slots.len(),
         ]
         .iter()
@@ -199,6 +203,7 @@ impl World {
         world.shapes = snapshot.shapes;
         world.shape_records = snapshot.shape_records;
         world.fat_aabbs = snapshot.fat_aabbs;
+        world.core_aabbs = snapshot.core_aabbs;
         world.moved = snapshot.moved;
         world.moved_flags = moved_flags;
         world.contacts = snapshot.contacts;

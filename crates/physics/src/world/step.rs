@@ -153,6 +153,7 @@ impl World {
         }
         let bp = &self.broad_phase;
         let aabbs = &self.fat_aabbs;
+        let cores = &self.core_aabbs;
         // Whether each body is dynamic, from the 12-byte solver records rather than the
         // body sims (a cache line each, read at random for every overlapping pair).
         let dynamic = &self.solver_bodies;
@@ -161,12 +162,13 @@ impl World {
         let moved_flags = &self.moved_flags;
         let pairs = &self.pairs;
         // A new contact only for a pair of shapes of two bodies, one of them dynamic (no
-        // other pair can ever push anything), whose filters let them touch, neither a
-        // sensor, that has none yet.
+        // other pair can ever push anything), whose core boxes overlap too (always, with a
+        // static shape), whose filters let them touch, neither a sensor, that has none yet.
         let wants_contact = |p: u32, q: u32| {
             let (bp_, bq) = (body_of[p as usize], body_of[q as usize]);
             bp_ != bq
                 && (dynamic[bp_ as usize].dynamic || dynamic[bq as usize].dynamic)
+                && cores[p as usize].overlaps(&cores[q as usize])
                 && {
                     let (rp, rq) = (&records[p as usize], &records[q as usize]);
                     !rp.sensor && !rq.sensor && rp.filter.should_collide(&rq.filter)
@@ -299,13 +301,14 @@ impl World {
         let shapes = &self.shapes;
         let records = &self.shape_records;
         let aabbs = &self.fat_aabbs;
+        let cores = &self.core_aabbs;
         let recycling = self.settings.contact_recycling;
         let collide_one = |c: &mut Contact, key: &mut ContactKey| -> (usize, usize) {
             if key.frozen {
                 return (0, 0);
             }
             let (sa, sb) = (c.shape_a as usize, c.shape_b as usize);
-            if !aabbs[sa].overlaps(&aabbs[sb]) {
+            if !(aabbs[sa].overlaps(&aabbs[sb]) && cores[sa].overlaps(&cores[sb])) {
                 key.remove = true;
                 return (0, 1);
             }
@@ -522,25 +525,33 @@ impl World {
             }
         };
         for_each_part(spread, bodies, self.wide.finalize, &finalize_part);
-        // Each shape of a body that moves: its box, swept along next step's motion.
+        // Each shape of a body that moves: its core box, and that box swept along next
+        // step's motion; a fat box is grown again when its box leaves it.
         let (sims, states, motion) = (&self.sims, &self.states, &self.motion);
         let shapes = &self.shapes;
-        let shape_part = |_: usize,
-                          (shapes, records, fats, moved): (
-            &[Shape],
-            &[ShapeRecord],
-            &mut [Aabb],
-            &mut [bool],
-        )| {
-            for (((shape, r), fat), moved) in shapes.iter().zip(records).zip(fats).zip(moved) {
+        type ShapeBoxes<'a> = (
+            &'a [Shape],
+            &'a [ShapeRecord],
+            &'a mut [Aabb],
+            &'a mut [Aabb],
+            &'a mut [bool],
+        );
+        let shape_part = |_: usize, (shapes, records, fats, cores, moved): ShapeBoxes<'_>| {
+            for ((((shape, r), fat), core_fat), moved) in
+                shapes.iter().zip(records).zip(fats).zip(cores).zip(moved)
+            {
                 // A free slot's record names no body.
                 if r.body == super::NONE || !motion[r.body as usize].moves {
                     continue;
                 }
                 let b = r.body as usize;
-                let tight = swept_aabb(shape, r, &sims[b], &states[b], dt);
-                if !fat.contains(&tight) {
-                    *fat = tight.grown(sims[b].margin);
+                let (core, swept) = shape_boxes(shape, r, &sims[b], &states[b], dt);
+                if !fat.contains(&swept) {
+                    *fat = swept.grown(sims[b].margin);
+                    *moved = true;
+                }
+                if !core_fat.contains(&core) {
+                    *core_fat = core.grown(sims[b].margin);
                     *moved = true;
                 }
             }
@@ -551,6 +562,7 @@ impl World {
                 &shapes[..],
                 &self.shape_records[..],
                 &mut self.fat_aabbs[..],
+                &mut self.core_aabbs[..],
                 &mut self.moved_flags[..],
             ),
             self.wide.finalize,
@@ -621,27 +633,30 @@ fn recycle(c: &mut Contact, sa: &BodySim, sb: &BodySim) -> bool {
     true
 }
 
-/// The shape's box, stretched along the motion expected in the next step and grown by the
-/// speculative distance: the broad phase then pairs what the speculative margin needs.
-pub(super) fn swept_aabb(
+/// The shape's core box (its box grown by the speculative distance and by how far its
+/// farthest point turns in a step) and that box stretched along the motion expected in the
+/// next step: the broad phase then pairs what the speculative margin needs.
+pub(super) fn shape_boxes(
     shape: &Shape,
     r: &ShapeRecord,
     sim: &BodySim,
     st: &BodyState,
     dt: f32,
-) -> Aabb {
+) -> (Aabb, Aabb) {
     let pose = if r.offset {
         sim.xf.compose(r.from_center)
     } else {
         sim.xf
     };
-    let tight = shape.aabb(pose);
+    let core = shape
+        .aabb(pose)
+        .grown(SPECULATIVE_DISTANCE + st.w.abs() * dt * sim.extent);
     let d = st.v * dt;
     let swept = Aabb {
-        min: tight.min + d.min(Vec2::ZERO),
-        max: tight.max + d.max(Vec2::ZERO),
+        min: core.min + d.min(Vec2::ZERO),
+        max: core.max + d.max(Vec2::ZERO),
     };
-    swept.grown(SPECULATIVE_DISTANCE + st.w.abs() * dt * sim.extent)
+    (core, swept)
 }
 
 pub(super) fn ms(t: Instant) -> f64 {

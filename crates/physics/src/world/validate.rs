@@ -4,6 +4,7 @@
 use super::{ContactKey, NONE, World, pair_key};
 use crate::island::NO_ISLAND;
 use crate::scene::BodyKind;
+use crate::shape::Aabb;
 
 impl World {
     /// Checks every invariant between the stores: ids and free slots; each body's shape
@@ -42,6 +43,12 @@ impl World {
                 }
                 if self.shape_body[su] as usize != i {
                     return Err(format!("shape {s}'s compact body copy is stale"));
+                }
+                if self.sweeps_every_pair(i) != (self.core_aabbs[su] == Aabb::EVERYWHERE) {
+                    return Err(format!(
+                        "shape {s}'s core box does not match its body ({kind:?}, bullet {})",
+                        self.records[i].bullet
+                    ));
                 }
                 owner[su] = i as u32;
                 count += 1;
