@@ -223,6 +223,56 @@ fn a_ball_dropped_on_a_sleeping_pyramid_wakes_it() {
 }
 
 #[test]
+fn a_sleeping_pile_beside_an_awake_body_is_not_walked() {
+    // Issue 15: a sleeping body costs nothing while others are awake (Box2D's solver sets:
+    // the stages walk the awake set only). The profile counts what the stages walked.
+    let mut w = pyramid(10);
+    let boxes = w.live_body_count() - 1;
+    step_checked(&mut w, 240);
+    assert_eq!(w.awake_body_count(), 0);
+    let contacts = w.contact_count();
+    // A ball falling for ever, far from the pile: one awake island beside a sleeping one.
+    let far = BodyDef::new(ShapeDef::Circle { radius: 0.5 }).at(500.0, 0.0);
+    w.create_body(&far).unwrap();
+    let poses = |w: &World| (1..=boxes).map(|i| w.body(i)).collect::<Vec<_>>();
+    let asleep = poses(&w);
+    for _ in 0..30 {
+        step_checked(&mut w, 1);
+        let p = *w.profile();
+        assert_eq!((p.moving, p.collided, p.touching), (1, 0, 0));
+    }
+    assert_eq!(poses(&w), asleep, "a sleeping box moved");
+    assert_eq!(w.contact_count(), contacts);
+    // A box lands on the pile's top box and wakes it: then every contact is walked.
+    let on_top = BodyDef::new(ShapeDef::Box {
+        half_extents: [0.4, 0.4],
+    })
+    .at(-0.5, 11.0);
+    w.create_body(&on_top).unwrap();
+    let mut woke = false;
+    for _ in 0..120 {
+        // The pile wakes after the narrow phase of the step the ball touches it; from the
+        // next step on, it is walked.
+        let was_awake = w.awake_body_count() > 2;
+        step_checked(&mut w, 1);
+        let p = *w.profile();
+        if was_awake && w.awake_body_count() > 2 {
+            woke = true;
+            assert_eq!(p.moving, w.awake_body_count());
+            // Every contact walked (those that parted in the step are gone from the count).
+            assert!(p.collided >= w.contact_count(), "{} walked", p.collided);
+        }
+    }
+    assert!(woke, "the box never woke the pile");
+    // The pile (and the box on it) fall asleep again; the far ball falls on, alone.
+    step_checked(&mut w, 240);
+    assert_eq!(w.awake_body_count(), 1);
+    step_checked(&mut w, 1);
+    let p = *w.profile();
+    assert_eq!((p.moving, p.collided), (1, 0));
+}
+
+#[test]
 fn ids_are_refused_once_their_body_is_gone() {
     let mut w = pyramid(3);
     let top = w.body_id(w.body_count() - 1).unwrap();

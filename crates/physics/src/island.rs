@@ -35,6 +35,13 @@ pub struct Islands {
     /// Islands in use that are awake (kept by every method that changes one's sleep).
     #[serde(skip)]
     awake: usize,
+    /// The awake islands in use, ascending (the awake set's islands): the sleep stage walks
+    /// these rather than every slot. Valid after [`Islands::refresh_awake_list`].
+    #[serde(skip)]
+    pub awake_list: Vec<u32>,
+    /// An island was created, released, woken or put to sleep since the list was made.
+    #[serde(skip)]
+    awake_list_stale: bool,
 }
 
 impl Islands {
@@ -53,6 +60,7 @@ impl Islands {
             awake,
         };
         self.awake += usize::from(awake);
+        self.awake_list_stale = true;
         let k = match self.free.pop() {
             Some(k) => {
                 self.islands[k as usize] = island;
@@ -70,6 +78,7 @@ impl Islands {
 
     fn release(&mut self, k: u32) {
         self.awake -= usize::from(self.islands[k as usize].awake);
+        self.awake_list_stale = true;
         self.islands[k as usize] = Island::default();
         let at = self.free.partition_point(|&f| f > k);
         self.free.insert(at, k);
@@ -90,6 +99,7 @@ impl Islands {
         let island = &mut self.islands[k as usize];
         if island.awake != awake {
             island.awake = awake;
+            self.awake_list_stale = true;
             if awake {
                 self.awake += 1;
             } else {
@@ -98,8 +108,23 @@ impl Islands {
         }
     }
 
+    /// Rebuilds [`Islands::awake_list`] if an island changed its sleep or its slot since.
+    pub fn refresh_awake_list(&mut self) {
+        if self.awake_list_stale {
+            let islands = &self.islands;
+            self.awake_list.clear();
+            self.awake_list.extend(
+                (0..islands.len() as u32).filter(|&k| {
+                    islands[k as usize].awake && !islands[k as usize].bodies.is_empty()
+                }),
+            );
+            self.awake_list_stale = false;
+        }
+    }
+
     /// Recounts the awake islands (after a snapshot was read).
     pub fn recount(&mut self) {
+        self.awake_list_stale = true;
         self.awake = self
             .islands
             .iter()
@@ -166,6 +191,7 @@ impl Islands {
     /// keeps the slot; the others get new islands, in order of their first body. Returns the
     /// islands it is now made of.
     pub fn split(&mut self, k: u32, links: &[(u32, u32)]) -> Vec<u32> {
+        self.awake_list_stale = true;
         let bodies = std::mem::take(&mut self.islands[k as usize].bodies);
         let awake = self.islands[k as usize].awake;
         // Adjacency in compressed rows, over the island's bodies by their place in it.
@@ -271,6 +297,14 @@ impl Islands {
                 "{} awake islands counted, {awake} found",
                 self.awake
             ));
+        }
+        if !self.awake_list_stale {
+            let fresh = (0..self.islands.len() as u32).filter(|&k| {
+                self.islands[k as usize].awake && !self.islands[k as usize].bodies.is_empty()
+            });
+            if !fresh.eq(self.awake_list.iter().copied()) {
+                return Err("the awake island list is stale".into());
+            }
         }
         for (b, &k) in self.of_body.iter().enumerate() {
             if k != NO_ISLAND && !listed[b] {

@@ -108,6 +108,19 @@ impl<'a, T> SharedSlice<'a, T> {
         self.ptr.wrapping_add(i)
     }
 
+    /// A mutable view of element `i`.
+    ///
+    /// # Safety
+    /// No other live view (on any thread) reaches element `i`.
+    #[allow(clippy::mut_from_ref)]
+    #[inline]
+    pub unsafe fn at_mut(&self, i: u32) -> &mut T {
+        let i = i as usize;
+        assert!(i < self.len);
+        // SAFETY: in bounds; exclusivity is the caller's contract.
+        unsafe { &mut *self.ptr.add(i) }
+    }
+
     /// A mutable view of `range`.
     ///
     /// # Safety

@@ -24,6 +24,12 @@ pub struct StepProfile {
     pub contacts: usize,
     /// Contacts with at least one manifold point.
     pub touching: usize,
+    /// Contacts the narrow phase walked: every contact while no island sleeps, otherwise
+    /// the awake set's (a contact of two sleeping bodies is not walked).
+    pub collided: usize,
+    /// Bodies the body stages (integration, finalize) walked: the awake set's, dynamic and
+    /// kinematic (a sleeping or static body is not walked).
+    pub moving: usize,
     /// Graph colours in use (overflow not counted).
     pub colors: usize,
     /// Constraints that fitted no colour and were solved serially.

@@ -514,10 +514,12 @@ impl Solver {
     /// overflow is solved by the leading worker alone before the colours. The result does
     /// not depend on `workers` nor on who runs which block: each colour's constraints touch
     /// disjoint bodies, so their order within a colour is moot.
+    /// `moving` lists the bodies that move (each once; the body stages walk only them).
     pub fn run_substeps(
         &mut self,
         states: &mut [BodyState],
         motion: &[BodyMotion],
+        moving: &[u32],
         step: &SubstepParams,
         spread: Spread<'_>,
     ) -> (u64, usize) {
@@ -530,8 +532,9 @@ impl Solver {
         let workers = spread.workers().min(cores);
         // The plan's buffer is kept from run to run: a steady scene's step allocates nothing.
         let mut plan = std::mem::take(&mut self.plan);
-        self.plan_into(&mut plan, motion.len(), step, workers);
-        let result = self.run_plan(&plan, states, motion, step, spread, workers);
+        self.plan_into(&mut plan, moving.len(), step, workers);
+        let bodies = Bodies { motion, moving };
+        let result = self.run_plan(&plan, states, &bodies, step, spread, workers);
         self.plan = plan;
         result
     }
@@ -542,7 +545,7 @@ impl Solver {
         &mut self,
         plan: &[Stage],
         states: &mut [BodyState],
-        motion: &[BodyMotion],
+        bodies: &Bodies<'_>,
         step: &SubstepParams,
         spread: Spread<'_>,
         workers: usize,
@@ -557,11 +560,12 @@ impl Solver {
             let states = BodyStates::exclusive(states);
             let caps = plan
                 .iter()
-                .map(|stage| passes.run(stage, stage.items.clone(), &states, motion, step))
+                .map(|stage| passes.run(stage, stage.items.clone(), &states, bodies, step))
                 .sum();
             return (caps, 1);
         }
-        // SAFETY: a block is bodies of an integration stage, or constraints of one colour
+        // SAFETY: a block is bodies of an integration stage (`moving` lists each once), or
+        // constraints of one colour
         // (which touch disjoint dynamic bodies and write no other body), and the blocks of one
         // stage are disjoint; the board runs the stages one after another.
         let states = unsafe { BodyStates::shared(states) };
@@ -575,7 +579,7 @@ impl Solver {
             let mut run = |s: usize, block: usize| {
                 let stage = &plan[s];
                 let items = worker_range(&stage.items, block, stage.blocks);
-                mine += passes.run(stage, items, &states, motion, step);
+                mine += passes.run(stage, items, &states, bodies, step);
             };
             match board.join() {
                 Some(0) => {
@@ -777,6 +781,13 @@ struct Stage {
     blocks: usize,
 }
 
+/// What the body stages walk: the moving bodies, and every body's integration flags.
+struct Bodies<'a> {
+    motion: &'a [BodyMotion],
+    /// Slots of the bodies that move, each once: the body stages' items index it.
+    moving: &'a [u32],
+}
+
 /// The constraint arrays the workers share.
 struct Passes<'a> {
     scalar: SharedSlice<'a, ContactConstraint>,
@@ -794,9 +805,10 @@ impl Passes<'_> {
         stage: &Stage,
         items: Range<usize>,
         states: &BodyStates<'_>,
-        motion: &[BodyMotion],
+        bodies: &Bodies<'_>,
         p: &SubstepParams,
     ) -> u64 {
+        let motion = bodies.motion;
         let inv_h = 1.0 / p.h;
         let avx = self.use_avx;
         let push = p.max_push_speed;
@@ -805,7 +817,8 @@ impl Passes<'_> {
         let scalar = stage.color == 0 || !self.use_wide;
         match stage.pass {
             Pass::IntegrateVelocities => {
-                for i in items {
+                for &i in &bodies.moving[items] {
+                    let i = i as usize;
                     let m = &motion[i];
                     if m.dynamic {
                         let mut s = states.get(i);
@@ -822,19 +835,17 @@ impl Passes<'_> {
                 }
             }
             Pass::IntegratePositions => {
-                for i in items {
+                for &i in &bodies.moving[items] {
+                    let i = i as usize;
                     let m = &motion[i];
-                    if m.moves {
-                        let mut s = states.get(i);
-                        let cap = if m.dynamic {
-                            p.max_linear_speed
-                        } else {
-                            f32::INFINITY
-                        };
-                        caps +=
-                            u64::from(integrate_position(&mut s, p.h, cap, m.rotates) && m.dynamic);
-                        states.set(i, s);
-                    }
+                    let mut s = states.get(i);
+                    let cap = if m.dynamic {
+                        p.max_linear_speed
+                    } else {
+                        f32::INFINITY
+                    };
+                    caps += u64::from(integrate_position(&mut s, p.h, cap, m.rotates) && m.dynamic);
+                    states.set(i, s);
                 }
             }
             pass if scalar => {

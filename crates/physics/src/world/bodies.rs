@@ -93,12 +93,10 @@ impl World {
             self.solver_bodies.push(SolverBody::default());
             self.motion.push(BodyMotion::default());
             self.awake.push(false);
-            self.guarded.push(false);
         } else {
             self.sims[i] = sim;
             self.records[i] = record;
             self.states[i] = state;
-            self.guarded[i] = false;
         }
         self.islands.grow(i + 1);
         if def.kind == BodyKind::Kinematic {
@@ -272,6 +270,7 @@ impl World {
         self.refresh_motion(body);
         // Contacts keep a copy of their bodies' masses (prepare reads no body): refresh it.
         // (The colouring needs no telling: it is checked against the touching pairs.)
+        self.awake_contacts_stale = true;
         for (c, key) in self.contacts.iter_mut().zip(&mut self.contact_keys) {
             if c.body_a == body || c.body_b == body {
                 c.masses = [
@@ -292,6 +291,9 @@ impl World {
         let kind = self.sims[i].kind;
         let r = &self.records[i];
         let awake = self.awake[i];
+        if self.motion[i].moves != (kind != BodyKind::Static && awake) {
+            self.moving_stale = true;
+        }
         self.motion[i] = BodyMotion {
             dynamic: kind == BodyKind::Dynamic && awake,
             moves: kind != BodyKind::Static && awake,
@@ -645,6 +647,7 @@ impl World {
             keep += 1;
         }
         if keep != self.contacts.len() {
+            self.awake_contacts_stale = true;
             self.contacts.truncate(keep);
             self.contact_keys.truncate(keep);
             self.pairs = self

@@ -276,8 +276,11 @@ pub struct World {
     motion: Vec<BodyMotion>,
     /// Awake: kinematic bodies and awake dynamic ones (never static ones or free slots).
     awake: Vec<bool>,
-    /// Set by finalize for a body whose state went non-finite (then counted and cleared).
-    guarded: Vec<bool>,
+    /// The awake set's bodies (Box2D's awake solver set, as a list of slots): every body
+    /// whose `motion.moves`, ascending. The body stages walk it, so a sleeping body costs
+    /// them nothing. Rebuilt at the next step when `moving_stale`.
+    moving: Vec<u32>,
+    moving_stale: bool,
     /// Kinematic bodies in the world (their motion keeps what they touch awake).
     kinematic_count: usize,
     // Shapes, by slot.
@@ -309,6 +312,11 @@ pub struct World {
     contacts: Vec<Contact>,
     /// One per contact, in the same order.
     contact_keys: Vec<ContactKey>,
+    /// The awake set's contacts: every contact not `frozen`, ascending. While an island
+    /// sleeps, the contact stages walk it instead of every contact. Rebuilt when needed
+    /// once `awake_contacts_stale`.
+    awake_contacts: Vec<u32>,
+    awake_contacts_stale: bool,
     pairs: FxHashMap<u64, u32>,
     islands: Islands,
     guarded_last_step: usize,
@@ -341,7 +349,8 @@ impl World {
             solver_bodies: Vec::new(),
             motion: Vec::new(),
             awake: Vec::new(),
-            guarded: Vec::new(),
+            moving: Vec::new(),
+            moving_stale: true,
             kinematic_count: 0,
             shape_slots: Slots::default(),
             shapes: Vec::new(),
@@ -357,6 +366,8 @@ impl World {
             broad_phase: BroadPhase::default(),
             contacts: Vec::new(),
             contact_keys: Vec::new(),
+            awake_contacts: Vec::new(),
+            awake_contacts_stale: true,
             pairs: FxHashMap::default(),
             islands: Islands::default(),
             guarded_last_step: 0,

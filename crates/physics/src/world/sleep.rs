@@ -57,6 +57,7 @@ impl World {
         }
         for k in (0..self.contacts.len()).rev() {
             if self.contact_keys[k].remove {
+                self.awake_contacts_stale = true;
                 self.contact_keys.swap_remove(k);
                 let c = self.contacts.swap_remove(k);
                 self.pairs.remove(&pair_key(c.shape_a, c.shape_b));
@@ -77,7 +78,19 @@ impl World {
     fn keep_touched_by_kinematic_awake(&mut self) {
         let threshold = self.settings.sleep_threshold;
         let mut woke = false;
-        for k in 0..self.contacts.len() {
+        // A kinematic body is awake, so its contacts are on the awake list when there is one.
+        let listed = self.walk_awake_contacts();
+        let count = if listed {
+            self.awake_contacts.len()
+        } else {
+            self.contacts.len()
+        };
+        for n in 0..count {
+            let k = if listed {
+                self.awake_contacts[n] as usize
+            } else {
+                n
+            };
             // Only a touching contact of one dynamic body and one that is not can be a
             // kinematic body's: the compact key says so without reading the contact.
             let key = &self.contact_keys[k];
@@ -120,10 +133,10 @@ impl World {
         let time_to_sleep = self.settings.time_to_sleep;
         let mut sleepy = Vec::new();
         let mut split: Option<(usize, u32)> = None;
-        for (k, island) in self.islands.islands.iter().enumerate() {
-            if !island.awake || island.bodies.is_empty() {
-                continue;
-            }
+        // The awake islands only, in slot order: a sleeping one costs this stage nothing.
+        self.islands.refresh_awake_list();
+        for &k in &self.islands.awake_list {
+            let island = &self.islands.islands[k as usize];
             let rested = island.bodies.iter().all(|&b| {
                 self.sims[b as usize].sleep_time >= time_to_sleep
                     && self.records[b as usize].enable_sleep
@@ -134,10 +147,10 @@ impl World {
             if island.constraints_removed > 0 {
                 let size = island.bodies.len();
                 if split.is_none_or(|(s, _)| size > s) {
-                    split = Some((size, k as u32));
+                    split = Some((size, k));
                 }
             } else {
-                sleepy.push(k as u32);
+                sleepy.push(k);
             }
         }
         if let Some((_, k)) = split {
@@ -244,11 +257,40 @@ impl World {
 
     /// Recomputes each contact's `frozen` and `sleeping` flags from the awake flags.
     pub(super) fn refresh_contact_keys(&mut self) {
+        self.awake_contacts_stale = true;
         for (c, key) in self.contacts.iter().zip(&mut self.contact_keys) {
             let fresh = ContactKey::of(c, &self.awake);
             key.frozen = fresh.frozen;
             key.sleeping = fresh.sleeping;
         }
+    }
+
+    /// Rebuilds the awake set's body list if it is stale.
+    pub(super) fn refresh_moving(&mut self) {
+        if self.moving_stale {
+            let motion = &self.motion;
+            self.moving.clear();
+            self.moving
+                .extend((0..motion.len() as u32).filter(|&i| motion[i as usize].moves));
+            self.moving_stale = false;
+        }
+    }
+
+    /// Whether the contact stages walk the awake set's contacts (rebuilt first if stale)
+    /// rather than every contact: only while some island sleeps. With none asleep every
+    /// contact is awake, and a walk of the array itself is cheaper than one through a list.
+    pub(super) fn walk_awake_contacts(&mut self) -> bool {
+        if self.islands.awake_count() == self.islands.count() {
+            return false;
+        }
+        if self.awake_contacts_stale {
+            let keys = &self.contact_keys;
+            self.awake_contacts.clear();
+            self.awake_contacts
+                .extend((0..keys.len() as u32).filter(|&k| !keys[k as usize].frozen));
+            self.awake_contacts_stale = false;
+        }
+        true
     }
 
     /// Whether body `index` is awake.

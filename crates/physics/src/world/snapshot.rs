@@ -194,7 +194,6 @@ impl World {
         world.solver_bodies = snapshot.solver_bodies;
         world.motion = snapshot.motion;
         world.awake = snapshot.awake;
-        world.guarded = vec![false; n];
         world.kinematic_count = (0..n)
             .filter(|&i| world.body_slots.is_alive(i) && world.sims[i].kind == BodyKind::Kinematic)
             .count();

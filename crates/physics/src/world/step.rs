@@ -19,7 +19,7 @@ use web_time::Instant;
 use super::{BodySim, Contact, ContactCache, ContactKey, ShapeRecord, World, pair_key};
 use crate::SPECULATIVE_DISTANCE;
 use crate::collision::{Manifold, collide};
-use crate::parallel::{Spread, for_each_part, for_parts};
+use crate::parallel::{SharedSlice, Spread, for_each_part, for_parts};
 use crate::profile::StepProfile;
 use crate::scene::BodyKind;
 use crate::shape::{Aabb, Shape};
@@ -76,10 +76,13 @@ impl World {
         profile.broad_phase_ms = ms(t);
 
         let t = Instant::now();
-        let changes = self.collide(dt, spread);
+        let (changes, collided) = self.collide(dt, spread);
+        profile.collided = collided;
         self.update_touching(changes);
         profile.narrow_phase_ms = ms(t);
 
+        // Waking (above) and sleeping (last step) change the awake set's bodies.
+        self.refresh_moving();
         self.solve(dt, substeps, spread, &mut profile);
 
         let t = Instant::now();
@@ -92,6 +95,7 @@ impl World {
         profile.bodies = self.body_slots.live();
         profile.contacts = self.contacts.len();
         profile.moved = self.moved.len();
+        profile.moving = self.moving.len();
         profile.recycled = self.profile_recycled;
         profile.non_finite = self.guarded_last_step;
         profile.step_ms = ms(start);
@@ -131,9 +135,10 @@ impl World {
             return;
         }
         if self.tree_dirty {
-            // A cheap refit, and a full rebuild (serial, O(n log n): 3.4 ms of a 20,000-body
-            // pile's 16 ms step when it ran every step) only when proxies were added or
-            // removed or the refitted tree has grown a quarter costlier than a fresh one:
+            // A cheap refit (of the nodes above the moved proxies), and a full rebuild (serial,
+            // O(n log n): 3.4 ms of a 20,000-body pile's 16 ms step when it ran every step)
+            // only when proxies were added or removed or the refitted tree has grown a
+            // quarter costlier than a fresh one:
             // bodies that move together (a falling pile, a drifting cloud) keep a refitted
             // tree good. The tree's shape never changes which pairs are found, nor their
             // order (both are sorted).
@@ -143,7 +148,7 @@ impl World {
                     .rebuild(&self.fat_aabbs, |s| slots.is_alive(s as usize));
                 self.proxies_changed = false;
             } else {
-                self.broad_phase.refit(&self.fat_aabbs);
+                self.broad_phase.refit_moved(&self.fat_aabbs, &self.moved);
                 if self.broad_phase.looseness() > 1.25 {
                     self.broad_phase
                         .rebuild(&self.fat_aabbs, |s| slots.is_alive(s as usize));
@@ -284,18 +289,26 @@ impl World {
                 self.solver_bodies[rb.body as usize],
             ],
         };
-        self.pairs
-            .insert(pair_key(a, b), self.contacts.len() as u32);
-        self.contact_keys
-            .push(ContactKey::of(&contact, &self.awake));
+        let k = self.contacts.len() as u32;
+        self.pairs.insert(pair_key(a, b), k);
+        let key = ContactKey::of(&contact, &self.awake);
+        // The newest contact comes last, so the ascending list stays ascending.
+        if !key.frozen && !self.awake_contacts_stale {
+            self.awake_contacts.push(k);
+        }
+        self.contact_keys.push(key);
         self.contacts.push(contact);
     }
 
     /// Narrow phase (reads poses, velocities, shapes, fat boxes; writes each contact's
     /// manifold and key): every contact not frozen by sleep computes its manifold into its
     /// own slot, carrying impulses over by feature id. Returns how many contacts began or
-    /// stopped touching, or parted (`update_touching` then handles them serially).
-    fn collide(&mut self, dt: f32, spread: Spread<'_>) -> usize {
+    /// stopped touching, or parted (`update_touching` then handles them serially), and how
+    /// many contacts it walked. While an island sleeps it walks the awake set's contacts, so
+    /// a frozen one costs nothing.
+    #[allow(unsafe_code)]
+    fn collide(&mut self, dt: f32, spread: Spread<'_>) -> (usize, usize) {
+        let listed = self.walk_awake_contacts();
         let sims = &self.sims;
         let states = &self.states;
         let shapes = &self.shapes;
@@ -362,21 +375,48 @@ impl World {
             key.touching = m.count > 0;
             (0, usize::from(key.touching != c.touched))
         };
-        let (recycled, changes) = for_parts(
-            spread,
-            (&mut self.contacts[..], &mut self.contact_keys[..]),
-            self.wide.narrow_phase,
-            &|_, (contacts, keys): (&mut [Contact], &mut [ContactKey])| {
-                contacts
-                    .iter_mut()
-                    .zip(keys)
-                    .map(|(c, key)| collide_one(c, key))
-                    .fold((0, 0), |(r, n), (a, b)| (r + a, n + b))
-            },
-            &|a, b| (a.0 + b.0, a.1 + b.1),
-        );
+        let sum = |a: (usize, usize), b: (usize, usize)| (a.0 + b.0, a.1 + b.1);
+        let (recycled, changes) = if listed {
+            let contacts = SharedSlice::new(&mut self.contacts[..]);
+            let keys = SharedSlice::new(&mut self.contact_keys[..]);
+            for_parts(
+                spread,
+                &self.awake_contacts[..],
+                self.wide.narrow_phase,
+                &|_, part: &[u32]| {
+                    part.iter()
+                        .map(|&k| {
+                            // SAFETY: the awake list holds each contact once, so no two
+                            // parts (nor two items of one) reach the same slot.
+                            let (c, key) = unsafe { (contacts.at_mut(k), keys.at_mut(k)) };
+                            collide_one(c, key)
+                        })
+                        .fold((0, 0), sum)
+                },
+                &sum,
+            )
+        } else {
+            for_parts(
+                spread,
+                (&mut self.contacts[..], &mut self.contact_keys[..]),
+                self.wide.narrow_phase,
+                &|_, (contacts, keys): (&mut [Contact], &mut [ContactKey])| {
+                    contacts
+                        .iter_mut()
+                        .zip(keys)
+                        .map(|(c, key)| collide_one(c, key))
+                        .fold((0, 0), sum)
+                },
+                &sum,
+            )
+        };
         self.profile_recycled = recycled;
-        changes
+        let walked = if listed {
+            self.awake_contacts.len()
+        } else {
+            self.contacts.len()
+        };
+        (changes, walked)
     }
 
     /// Prepare, the substep loop, restitution and storing impulses (reads the touching,
@@ -398,17 +438,23 @@ impl World {
         // buffer: a scan of the small keys costs about a nanosecond a contact, and rayon's
         // parallel extend allocates a list of vectors each step (issue 14: a steady step
         // allocates nothing).
+        let listed = self.walk_awake_contacts();
         self.touching.clear();
-        self.touching.extend(
-            self.contact_keys
-                .iter()
-                .enumerate()
-                .filter(|(_, key)| key.touching && !key.sleeping)
-                .map(|(k, key)| Touching {
-                    contact: k as u32,
-                    dynamic: key.dynamic,
-                }),
-        );
+        let keys = &self.contact_keys;
+        let touching_at = |k: u32| {
+            let key = &keys[k as usize];
+            (key.touching && !key.sleeping).then_some(Touching {
+                contact: k,
+                dynamic: key.dynamic,
+            })
+        };
+        if listed {
+            let awake = self.awake_contacts.iter();
+            self.touching.extend(awake.filter_map(|&k| touching_at(k)));
+        } else {
+            self.touching
+                .extend((0..keys.len() as u32).filter_map(touching_at));
+        }
         profile.touching = self.touching.len();
         self.solver.use_wide = s.simd;
         self.solver.prepare(
@@ -438,9 +484,13 @@ impl World {
         // Below its threshold the solver runs on one worker: waking the others for every
         // stage (a hundred a step) costs more than their share of a small colour.
         let solve_spread = spread.for_stage(self.touching.len(), self.wide.solve);
-        let (caps, workers) =
-            self.solver
-                .run_substeps(&mut self.states, &self.motion, &step, solve_spread);
+        let (caps, workers) = self.solver.run_substeps(
+            &mut self.states,
+            &self.motion,
+            &self.moving,
+            &step,
+            solve_spread,
+        );
         self.speed_caps += caps;
         profile.solver_workers = workers;
         profile.solve_ms = ms(t);
@@ -464,119 +514,154 @@ impl World {
     /// Finalize (reads each awake body's substep deltas; writes its pose, sleep time and
     /// its shapes' fat boxes): applies the deltas to the transform, resets them, and grows
     /// the fat box of any shape that left it (those become the next step's moved proxies).
+    /// It walks the awake set's bodies only: a sleeping or static body costs it nothing.
+    #[allow(unsafe_code)]
     fn finalize(&mut self, dt: f32, spread: Spread<'_>) {
         let sleep = self.settings.enable_sleep;
         let threshold = self.settings.sleep_threshold;
-        let finalize_one =
-            |sim: &mut BodySim, st: &mut BodyState, guarded: &mut bool, moves: bool| {
-                if !moves {
-                    return;
-                }
-                // Box2D `b2FinalizeBodiesTask`: a body that moved more than half its thickness
-                // is fast, and its contacts are recomputed rather than recycled.
-                let max_motion = (st.dp.length() + st.dq.s.abs() * sim.extent)
-                    .max((st.v.length() + st.w.abs() * sim.extent) * dt);
-                sim.fast = max_motion > 0.5 * sim.min_extent;
-                // Resting: slower than the threshold at every point of the body (Box2D's sleep
-                // velocity, the larger of |v| and the extent's speed of turning).
-                let sleep_velocity = st.v.length().max(sim.extent * st.w.abs());
-                sim.sleep_time = if sleep && sleep_velocity <= threshold {
-                    sim.sleep_time + dt
-                } else {
-                    0.0
-                };
-                let p = sim.xf.p + st.dp;
-                let q = st.dq.then_from(sim.xf.q).normalize();
-                st.dp = Vec2::ZERO;
-                st.dq = crate::math::Rot::IDENTITY;
-                // Numerical guard: a body whose state went non-finite (it cannot with finite
-                // input, but a guard costs four compares) keeps its last finite pose and stops,
-                // rather than spreading NaN through its contacts.
-                if p.is_finite()
-                    && q.c.is_finite()
-                    && q.s.is_finite()
-                    && st.v.is_finite()
-                    && st.w.is_finite()
-                {
-                    sim.xf.p = p;
-                    sim.xf.q = q;
-                } else {
-                    st.v = Vec2::ZERO;
-                    st.w = 0.0;
-                    *guarded = true;
-                }
+        // Returns whether the numerical guard stopped the body.
+        let finalize_one = |sim: &mut BodySim, st: &mut BodyState| -> bool {
+            // Box2D `b2FinalizeBodiesTask`: a body that moved more than half its thickness
+            // is fast, and its contacts are recomputed rather than recycled.
+            let max_motion = (st.dp.length() + st.dq.s.abs() * sim.extent)
+                .max((st.v.length() + st.w.abs() * sim.extent) * dt);
+            sim.fast = max_motion > 0.5 * sim.min_extent;
+            // Resting: slower than the threshold at every point of the body (Box2D's sleep
+            // velocity, the larger of |v| and the extent's speed of turning).
+            let sleep_velocity = st.v.length().max(sim.extent * st.w.abs());
+            sim.sleep_time = if sleep && sleep_velocity <= threshold {
+                sim.sleep_time + dt
+            } else {
+                0.0
             };
-        let motion = &self.motion;
-        type Bodies<'a> = (
-            &'a mut [BodySim],
-            &'a mut [BodyState],
-            &'a mut [bool],
-            &'a [crate::solver::BodyMotion],
-        );
-        let bodies = (
-            &mut self.sims[..],
-            &mut self.states[..],
-            &mut self.guarded[..],
-            &motion[..],
-        );
-        let finalize_part = |_: usize, (sims, states, guarded, motion): Bodies<'_>| {
-            for (((sim, st), guarded), m) in sims.iter_mut().zip(states).zip(guarded).zip(motion) {
-                finalize_one(sim, st, guarded, m.moves);
+            let p = sim.xf.p + st.dp;
+            let q = st.dq.then_from(sim.xf.q).normalize();
+            st.dp = Vec2::ZERO;
+            st.dq = crate::math::Rot::IDENTITY;
+            // Numerical guard: a body whose state went non-finite (it cannot with finite
+            // input, but a guard costs four compares) keeps its last finite pose and stops,
+            // rather than spreading NaN through its contacts.
+            if p.is_finite()
+                && q.c.is_finite()
+                && q.s.is_finite()
+                && st.v.is_finite()
+                && st.w.is_finite()
+            {
+                sim.xf.p = p;
+                sim.xf.q = q;
+                false
+            } else {
+                st.v = Vec2::ZERO;
+                st.w = 0.0;
+                true
             }
         };
-        for_each_part(spread, bodies, self.wide.finalize, &finalize_part);
+        let guarded = {
+            let sims = SharedSlice::new(&mut self.sims[..]);
+            let states = SharedSlice::new(&mut self.states[..]);
+            for_parts(
+                spread,
+                &self.moving[..],
+                self.wide.finalize,
+                &|_, part: &[u32]| {
+                    part.iter()
+                        .map(|&b| {
+                            // SAFETY: the awake set lists each body once, so no two parts
+                            // (nor two items of one) reach the same slot.
+                            let (sim, st) = unsafe { (sims.at_mut(b), states.at_mut(b)) };
+                            usize::from(finalize_one(sim, st))
+                        })
+                        .sum::<usize>()
+                },
+                &|a, b| a + b,
+            )
+        };
         // Each shape of a body that moves: its core box, and that box swept along next
         // step's motion; a fat box is grown again when its box leaves it.
         let (sims, states, motion) = (&self.sims, &self.states, &self.motion);
-        let shapes = &self.shapes;
-        type ShapeBoxes<'a> = (
-            &'a [Shape],
-            &'a [ShapeRecord],
-            &'a mut [Aabb],
-            &'a mut [Aabb],
-            &'a mut [bool],
-        );
-        let shape_part = |_: usize, (shapes, records, fats, cores, moved): ShapeBoxes<'_>| {
-            for ((((shape, r), fat), core_fat), moved) in
-                shapes.iter().zip(records).zip(fats).zip(cores).zip(moved)
-            {
-                // A free slot's record names no body.
-                if r.body == super::NONE || !motion[r.body as usize].moves {
-                    continue;
-                }
-                let b = r.body as usize;
-                let (core, swept) = shape_boxes(shape, r, &sims[b], &states[b], dt);
-                if !fat.contains(&swept) {
-                    *fat = swept.grown(sims[b].margin);
-                    *moved = true;
-                }
-                if !core_fat.contains(&core) {
-                    *core_fat = core.grown(sims[b].margin);
-                    *moved = true;
-                }
+        let (shapes, shape_records) = (&self.shapes, &self.shape_records);
+        let fit = |shape: &Shape, r: &ShapeRecord, fat: &mut Aabb, core_fat: &mut Aabb| {
+            let b = r.body as usize;
+            let (core, swept) = shape_boxes(shape, r, &sims[b], &states[b], dt);
+            let mut moved = false;
+            if !fat.contains(&swept) {
+                *fat = swept.grown(sims[b].margin);
+                moved = true;
             }
+            if !core_fat.contains(&core) {
+                *core_fat = core.grown(sims[b].margin);
+                moved = true;
+            }
+            moved
         };
-        for_each_part(
-            spread,
-            (
+        // The moved proxies go into `moved` by id (the pair search creates contacts in this
+        // order). The pair search emptied it; nothing has added to it since.
+        debug_assert!(self.moved.is_empty());
+        if self.moving.len() * 2 >= self.sims.len() {
+            // Most bodies move: a stream through every shape, and a scan of the flags (a
+            // byte a shape), beat walking each moving body's list of shapes.
+            type ShapeBoxes<'a> = (
+                &'a [Shape],
+                &'a [ShapeRecord],
+                &'a mut [Aabb],
+                &'a mut [Aabb],
+                &'a mut [bool],
+            );
+            let shape_part = |_: usize, (shapes, records, fats, cores, moved): ShapeBoxes<'_>| {
+                let each = shapes.iter().zip(records).zip(fats).zip(cores).zip(moved);
+                for ((((shape, r), fat), core_fat), moved) in each {
+                    // A free slot's record names no body.
+                    if r.body != super::NONE && motion[r.body as usize].moves {
+                        *moved = fit(shape, r, fat, core_fat);
+                    }
+                }
+            };
+            let all = (
                 &shapes[..],
-                &self.shape_records[..],
+                &shape_records[..],
                 &mut self.fat_aabbs[..],
                 &mut self.core_aabbs[..],
                 &mut self.moved_flags[..],
-            ),
-            self.wide.finalize,
-            &shape_part,
-        );
-        for (i, &m) in self.moved_flags.iter().enumerate() {
-            if m {
-                self.moved.push(i as u32);
-                self.tree_dirty = true;
+            );
+            for_each_part(spread, all, self.wide.finalize, &shape_part);
+            let flags = self.moved_flags.iter().enumerate();
+            self.moved
+                .extend(flags.filter(|(_, m)| **m).map(|(s, _)| s as u32));
+        } else {
+            // Few move: only their shapes, reached through their bodies' lists.
+            let records = &self.records;
+            let fats = SharedSlice::new(&mut self.fat_aabbs[..]);
+            let cores = SharedSlice::new(&mut self.core_aabbs[..]);
+            let moved = SharedSlice::new(&mut self.moved_flags[..]);
+            let shape_part = |_: usize, part: &[u32]| {
+                for &b in part {
+                    let mut s = records[b as usize].first_shape;
+                    while s != super::NONE {
+                        let r = &shape_records[s as usize];
+                        // SAFETY: a shape is on one body's list, and the awake set lists each
+                        // body once, so no two parts (nor two items of one) reach the same
+                        // shape.
+                        let (fat, core_fat, moved) =
+                            unsafe { (fats.at_mut(s), cores.at_mut(s), moved.at_mut(s)) };
+                        *moved = fit(&shapes[s as usize], r, fat, core_fat);
+                        s = r.next;
+                    }
+                }
+            };
+            for_each_part(spread, &self.moving[..], self.wide.finalize, &shape_part);
+            for &b in &self.moving {
+                let mut s = records[b as usize].first_shape;
+                while s != super::NONE {
+                    if self.moved_flags[s as usize] {
+                        self.moved.push(s);
+                    }
+                    s = shape_records[s as usize].next;
+                }
             }
+            self.moved.sort_unstable();
         }
-        let mut guarded = 0;
-        for g in &mut self.guarded {
-            guarded += usize::from(std::mem::take(g));
+        if !self.moved.is_empty() {
+            self.tree_dirty = true;
         }
         self.guarded_last_step = guarded;
         self.non_finite_bodies += guarded as u64;

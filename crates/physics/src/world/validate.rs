@@ -164,6 +164,20 @@ impl World {
                 }
             }
         }
+        // The awake set's lists, unless marked for a rebuild.
+        if !self.moving_stale {
+            let fresh = (0..self.motion.len() as u32).filter(|&i| self.motion[i as usize].moves);
+            if !fresh.eq(self.moving.iter().copied()) {
+                return Err("the awake set's body list is stale".into());
+            }
+        }
+        if !self.awake_contacts_stale {
+            let keys = &self.contact_keys;
+            let fresh = (0..keys.len() as u32).filter(|&k| !keys[k as usize].frozen);
+            if !fresh.eq(self.awake_contacts.iter().copied()) {
+                return Err("the awake set's contact list is stale".into());
+            }
+        }
         // Moved proxies: the list holds exactly the flagged shapes, each once.
         let mut listed = vec![false; self.moved_flags.len()];
         for &m in &self.moved {
