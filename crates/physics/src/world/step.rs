@@ -169,16 +169,18 @@ impl World {
         // A new contact only for a pair of shapes of two bodies, one of them dynamic (no
         // other pair can ever push anything), whose core boxes overlap too (always, with a
         // static shape), whose filters let them touch, neither a sensor, that has none yet.
+        // Cheapest refusals first: in a resting pile nearly every pair a moved proxy finds
+        // has its contact already, and the map says so before the shapes are read.
         let wants_contact = |p: u32, q: u32| {
             let (bp_, bq) = (body_of[p as usize], body_of[q as usize]);
             bp_ != bq
                 && (dynamic[bp_ as usize].dynamic || dynamic[bq as usize].dynamic)
+                && !pairs.contains_key(&pair_key(p, q))
                 && cores[p as usize].overlaps(&cores[q as usize])
                 && {
                     let (rp, rq) = (&records[p as usize], &records[q as usize]);
                     !rp.sensor && !rq.sensor && rp.filter.should_collide(&rq.filter)
                 }
-                && !pairs.contains_key(&pair_key(p, q))
         };
         if self.moved.len() * 2 > self.broad_phase.proxy_count() {
             // Most proxies moved (smash, an explosion, the first step): walk the tree against
@@ -321,15 +323,29 @@ impl World {
                 return (0, 0);
             }
             let (sa, sb) = (c.shape_a as usize, c.shape_b as usize);
-            if !(aabbs[sa].overlaps(&aabbs[sb]) && cores[sa].overlaps(&cores[sb])) {
+            // The pair rule (both fat boxes overlap, swept and core) in two reads, not four:
+            // a core fat box lies inside its swept one (they are grown together), so two
+            // moving shapes need only their cores tested, and a static or bullet shape (core
+            // everywhere) only the swept boxes.
+            let (ca, cb) = (&cores[sa], &cores[sb]);
+            let overlaps = if *ca == Aabb::EVERYWHERE || *cb == Aabb::EVERYWHERE {
+                aabbs[sa].overlaps(&aabbs[sb])
+            } else {
+                ca.overlaps(cb)
+            };
+            if !overlaps {
                 key.remove = true;
                 return (0, 1);
             }
             let (a, b) = (c.body_a as usize, c.body_b as usize);
             let (xa, xb) = (sims[a].xf, sims[b].xf);
+            // Whether it touched after the last narrow phase: the key says so as the contact
+            // does (`World::validate` checks it), without reading the contact's last line.
+            let was = key.touching;
+            debug_assert_eq!(was, c.touched);
             if recycling && recycle(c, &sims[a], &sims[b]) {
                 key.touching = c.manifold.count > 0;
-                return (1, usize::from(key.touching != c.touched));
+                return (1, usize::from(key.touching != was));
             }
             c.cache = Some(ContactCache {
                 q_a: xa.q,
@@ -373,7 +389,7 @@ impl World {
             }
             c.manifold = m;
             key.touching = m.count > 0;
-            (0, usize::from(key.touching != c.touched))
+            (0, usize::from(key.touching != was))
         };
         let sum = |a: (usize, usize), b: (usize, usize)| (a.0 + b.0, a.1 + b.1);
         let (recycled, changes) = if listed {
@@ -583,16 +599,16 @@ impl World {
         let fit = |shape: &Shape, r: &ShapeRecord, fat: &mut Aabb, core_fat: &mut Aabb| {
             let b = r.body as usize;
             let (core, swept) = shape_boxes(shape, r, &sims[b], &states[b], dt);
-            let mut moved = false;
-            if !fat.contains(&swept) {
-                *fat = swept.grown(sims[b].margin);
-                moved = true;
+            if fat.contains(&swept) && core_fat.contains(&core) {
+                return false;
             }
-            if !core_fat.contains(&core) {
+            // Both are grown again when either is left, so that a resting body (whose two
+            // boxes nearly coincide) moves in the tree once, not once for each box.
+            *fat = swept.grown(sims[b].margin);
+            if *core_fat != Aabb::EVERYWHERE {
                 *core_fat = core.grown(sims[b].margin);
-                moved = true;
             }
-            moved
+            true
         };
         // The moved proxies go into `moved` by id (the pair search creates contacts in this
         // order). The pair search emptied it; nothing has added to it since.

@@ -178,6 +178,14 @@ impl World {
                 return Err("the awake set's contact list is stale".into());
             }
         }
+        // Each live shape's core fat box lies inside its swept one, or is everywhere (the
+        // narrow phase tests one or the other on that ground).
+        for s in 0..self.fat_aabbs.len() {
+            let (fat, core) = (&self.fat_aabbs[s], &self.core_aabbs[s]);
+            if self.shape_slots.is_alive(s) && *core != Aabb::EVERYWHERE && !fat.contains(core) {
+                return Err(format!("shape {s}'s core box is not inside its fat box"));
+            }
+        }
         // Moved proxies: the list holds exactly the flagged shapes, each once.
         let mut listed = vec![false; self.moved_flags.len()];
         for &m in &self.moved {
