@@ -219,6 +219,10 @@ struct ContactKey {
     frozen: bool,
     /// A dynamic body of it sleeps: the solver leaves it out.
     sleeping: bool,
+    /// Its boxes' overlap must be tested at its next narrow phase even if neither shape
+    /// moved: it is new, was frozen (its boxes may have moved as it fell asleep, untested),
+    /// or was restored. Otherwise a contact whose shapes did not move overlaps as it did.
+    retest: bool,
 }
 
 impl ContactKey {
@@ -231,6 +235,7 @@ impl ContactKey {
             remove: false,
             frozen: !(awake[a] || awake[b]),
             sleeping: (c.masses[0].dynamic && !awake[a]) || (c.masses[1].dynamic && !awake[b]),
+            retest: true,
         }
     }
 }
@@ -302,6 +307,10 @@ pub struct World {
     /// Proxies whose fat or core box changed since the last pair search.
     moved: Vec<u32>,
     moved_flags: Vec<bool>,
+    /// The proxies the pair search just took from `moved`: their flags stay set until the
+    /// narrow phase has retested their contacts' boxes, then are cleared (the buffers of
+    /// the two lists take turns, so a steady step allocates nothing).
+    moved_done: Vec<u32>,
     /// Scratch: each moved proxy's place in `moved` (the tree walk's creation order).
     moved_rank: Vec<u32>,
     /// A proxy was added or removed: the tree must be rebuilt.
@@ -360,6 +369,7 @@ impl World {
             core_aabbs: Vec::new(),
             moved: Vec::new(),
             moved_flags: Vec::new(),
+            moved_done: Vec::new(),
             moved_rank: Vec::new(),
             proxies_changed: true,
             tree_dirty: true,

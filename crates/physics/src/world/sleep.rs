@@ -262,6 +262,7 @@ impl World {
             let fresh = ContactKey::of(c, &self.awake);
             key.frozen = fresh.frozen;
             key.sleeping = fresh.sleeping;
+            key.retest |= fresh.frozen;
         }
     }
 

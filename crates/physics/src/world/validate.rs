@@ -148,6 +148,19 @@ impl World {
             {
                 return Err(format!("contact {k}'s key is stale"));
             }
+            // A contact not due for a retest, neither of whose shapes moved since, must still
+            // overlap by the pair rule (the narrow phase skips its test); a frozen one is
+            // always due.
+            let (sa, sb) = (c.shape_a as usize, c.shape_b as usize);
+            if key.frozen && !key.retest {
+                return Err(format!("frozen contact {k} is not due for a retest"));
+            }
+            let untested = !key.retest && !self.moved_flags[sa] && !self.moved_flags[sb];
+            let overlap = self.fat_aabbs[sa].overlaps(&self.fat_aabbs[sb])
+                && self.core_aabbs[sa].overlaps(&self.core_aabbs[sb]);
+            if untested && !overlap {
+                return Err(format!("contact {k}'s boxes parted untested"));
+            }
             if key.touching != (c.manifold.count > 0) || c.touched != key.touching {
                 return Err(format!("contact {k}'s touching flags disagree"));
             }
