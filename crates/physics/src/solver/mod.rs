@@ -565,9 +565,9 @@ impl Solver {
             return (caps, 1);
         }
         // SAFETY: a block is bodies of an integration stage (`moving` lists each once), or
-        // constraints of one colour
-        // (which touch disjoint dynamic bodies and write no other body), and the blocks of one
-        // stage are disjoint; the board runs the stages one after another.
+        // constraints of one colour (which touch disjoint dynamic bodies and write no other
+        // body), and the blocks of one stage are disjoint; the board runs the stages one
+        // after another.
         let states = unsafe { BodyStates::shared(states) };
         let crew = spread.crew().expect("several workers come with a crew");
         let mut board = std::mem::take(&mut self.board);
