@@ -414,21 +414,17 @@ impl Instances {
         if debug.contacts || debug.normals {
             for contact in world.contacts() {
                 let m = contact.manifold;
-                for point in m.points() {
+                for (point, &at) in m.points().iter().zip(contact.world_points()) {
                     if debug.contacts {
                         let c = if point.separation <= 0.0 {
                             [1.0, 0.25, 0.2, 1.0]
                         } else {
                             [1.0, 0.85, 0.2, 1.0]
                         };
-                        self.marker(point.point, 2.5 * px, c);
+                        self.marker(at, 2.5 * px, c);
                     }
                     if debug.normals {
-                        self.line(
-                            point.point,
-                            point.point + m.normal * 18.0 * px,
-                            [0.95, 0.95, 0.3, 0.9],
-                        );
+                        self.line(at, at + m.normal * 18.0 * px, [0.95, 0.95, 0.3, 0.9]);
                     }
                 }
             }
@@ -436,15 +432,15 @@ impl Instances {
         if debug.graph_colors {
             let colors = world.contact_colors();
             if !colors.is_empty() {
-                let manifolds: Vec<_> = world.contacts().map(|c| c.manifold).collect();
+                let contacts: Vec<_> = world.contacts().collect();
                 for (index, color) in colors {
-                    let Some(m) = manifolds.get(index) else {
+                    let Some(contact) = contacts.get(index) else {
                         continue;
                     };
                     let c = graph_color(color);
-                    for point in m.points() {
-                        self.marker(point.point, 3.5 * px, c);
-                        self.marker(point.point, 2.0 * px, c);
+                    for &at in contact.world_points() {
+                        self.marker(at, 3.5 * px, c);
+                        self.marker(at, 2.0 * px, c);
                     }
                 }
             }

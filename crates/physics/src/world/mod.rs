@@ -100,6 +100,16 @@ pub struct ContactView<'a> {
     pub shape_b: usize,
     /// The manifold, with last step's impulses.
     pub manifold: &'a Manifold,
+    /// Each manifold point in the world: body A's centre now plus the point's anchor (as
+    /// computed, or recycled since), the first `manifold.count` of them.
+    pub points: [Vec2; 2],
+}
+
+impl ContactView<'_> {
+    /// The manifold's points in the world.
+    pub fn world_points(&self) -> &[Vec2] {
+        &self.points[..self.manifold.count]
+    }
 }
 
 /// Why a call on the world was refused.

@@ -177,12 +177,17 @@ impl World {
 
     /// Every contact, in the deterministic order the solver sees them.
     pub fn contacts(&self) -> impl Iterator<Item = ContactView<'_>> {
-        self.contacts.iter().map(|c| ContactView {
-            body_a: c.body_a as usize,
-            body_b: c.body_b as usize,
-            shape_a: c.shape_a as usize,
-            shape_b: c.shape_b as usize,
-            manifold: &c.manifold,
+        self.contacts.iter().map(|c| {
+            let centre = self.sims[c.body_a as usize].xf.p;
+            let m = &c.manifold;
+            ContactView {
+                body_a: c.body_a as usize,
+                body_b: c.body_b as usize,
+                shape_a: c.shape_a as usize,
+                shape_b: c.shape_b as usize,
+                manifold: m,
+                points: [centre + m.points[0].anchor_a, centre + m.points[1].anchor_a],
+            }
         })
     }
 
