@@ -349,4 +349,38 @@ mod tests {
         assert_eq!(s.count(), 1);
         assert_eq!(s.check(), Ok(()));
     }
+
+    #[test]
+    fn the_awake_list_follows_every_change_of_sleep_and_slot() {
+        let mut s = Islands::default();
+        for b in 0..6 {
+            s.create(b, true);
+        }
+        s.refresh_awake_list();
+        assert_eq!(s.awake_list, [0, 1, 2, 3, 4, 5]);
+        // Merging frees a slot; sleeping takes an island off; both in slot order.
+        let k = s.link(0, 1);
+        s.set_awake(s.of_body[4], false);
+        s.refresh_awake_list();
+        let mut expected: Vec<u32> = (0..6)
+            .map(|b| s.of_body[b])
+            .filter(|&i| i != s.of_body[4])
+            .collect();
+        expected.sort();
+        expected.dedup();
+        assert_eq!(s.awake_list, expected);
+        assert_eq!(s.check(), Ok(()));
+        // A split makes a new awake island; waking brings one back; removing the last body
+        // frees its slot.
+        s.unlink(0, 1);
+        let parts = s.split(k, &[]);
+        assert_eq!(parts.len(), 2);
+        s.set_awake(s.of_body[4], true);
+        s.remove_body(5);
+        s.refresh_awake_list();
+        let mut expected: Vec<u32> = (0..5).map(|b| s.of_body[b]).collect();
+        expected.sort();
+        assert_eq!(s.awake_list, expected);
+        assert_eq!(s.check(), Ok(()));
+    }
 }
