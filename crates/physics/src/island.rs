@@ -23,6 +23,13 @@ pub struct Island {
     pub awake: bool,
 }
 
+impl Island {
+    /// Whether it is in the awake set: in use (it has bodies) and awake.
+    fn in_awake_set(&self) -> bool {
+        self.awake && !self.bodies.is_empty()
+    }
+}
+
 /// Every island, by slot, and each body's island.
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Islands {
@@ -113,11 +120,8 @@ impl Islands {
         if self.awake_list_stale {
             let islands = &self.islands;
             self.awake_list.clear();
-            self.awake_list.extend(
-                (0..islands.len() as u32).filter(|&k| {
-                    islands[k as usize].awake && !islands[k as usize].bodies.is_empty()
-                }),
-            );
+            self.awake_list
+                .extend((0..islands.len() as u32).filter(|&k| islands[k as usize].in_awake_set()));
             self.awake_list_stale = false;
         }
     }
@@ -125,11 +129,7 @@ impl Islands {
     /// Recounts the awake islands (after a snapshot was read).
     pub fn recount(&mut self) {
         self.awake_list_stale = true;
-        self.awake = self
-            .islands
-            .iter()
-            .filter(|i| i.awake && !i.bodies.is_empty())
-            .count();
+        self.awake = self.islands.iter().filter(|i| i.in_awake_set()).count();
     }
 
     /// Joins the islands of two bodies (a contact between them began touching): the smaller
@@ -287,11 +287,7 @@ impl Islands {
                 return Err(format!("island {k} is free and has bodies, or neither"));
             }
         }
-        let awake = self
-            .islands
-            .iter()
-            .filter(|i| i.awake && !i.bodies.is_empty())
-            .count();
+        let awake = self.islands.iter().filter(|i| i.in_awake_set()).count();
         if awake != self.awake {
             return Err(format!(
                 "{} awake islands counted, {awake} found",
@@ -299,9 +295,8 @@ impl Islands {
             ));
         }
         if !self.awake_list_stale {
-            let fresh = (0..self.islands.len() as u32).filter(|&k| {
-                self.islands[k as usize].awake && !self.islands[k as usize].bodies.is_empty()
-            });
+            let fresh =
+                (0..self.islands.len() as u32).filter(|&k| self.islands[k as usize].in_awake_set());
             if !fresh.eq(self.awake_list.iter().copied()) {
                 return Err("the awake island list is stale".into());
             }

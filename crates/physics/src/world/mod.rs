@@ -101,8 +101,8 @@ pub struct ContactView<'a> {
     /// The manifold, with last step's impulses.
     pub manifold: &'a Manifold,
     /// Each manifold point in the world: body A's centre now plus the point's anchor (as
-    /// computed, or recycled since), the first `manifold.count` of them.
-    pub points: [Vec2; 2],
+    /// computed, or recycled since); read through [`ContactView::world_points`].
+    points: [Vec2; 2],
 }
 
 impl ContactView<'_> {
