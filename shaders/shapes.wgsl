@@ -107,6 +107,8 @@ struct PolygonInstance {
     // The vertices' bounding box in the body's frame (min x, min y, max x, max y): the quad.
     @location(7) bounds: vec4<f32>,
     @location(8) count: u32,
+    // Rounding radius (m); a capsule is two vertices with a radius.
+    @location(9) radius: f32,
 };
 
 struct PolygonVarying {
@@ -118,6 +120,7 @@ struct PolygonVarying {
     @location(4) @interpolate(flat) v45: vec4<f32>,
     @location(5) @interpolate(flat) v67: vec4<f32>,
     @location(6) @interpolate(flat) count: u32,
+    @location(7) @interpolate(flat) radius: f32,
 };
 
 @vertex
@@ -135,12 +138,13 @@ fn vs_polygon(@builtin(vertex_index) vertex: u32, body: PolygonInstance) -> Poly
     out.v45 = body.v45;
     out.v67 = body.v67;
     out.count = body.count;
+    out.radius = body.radius;
     return out;
 }
 
 // Signed distance from p to a convex counter-clockwise polygon: inside, the largest signed
 // distance to an edge's line (exact for a convex shape); outside, the distance to the nearest
-// edge segment (exact at the corners too).
+// edge segment (exact at the corners too). Two vertices are a segment, which has no inside.
 fn sd_convex(p: vec2<f32>, vertices: array<vec2<f32>, 8>, count: u32) -> f32 {
     // A function-local copy, so the loop may index it with a runtime index.
     var v = vertices;
@@ -155,7 +159,7 @@ fn sd_convex(p: vec2<f32>, vertices: array<vec2<f32>, 8>, count: u32) -> f32 {
         let h = clamp(dot(p - a, e) / dot(e, e), 0.0, 1.0);
         outside = min(outside, length(p - a - e * h));
     }
-    if (inside > 0.0) {
+    if (inside > 0.0 || count < 3u) {
         return outside;
     }
     return inside;
@@ -167,6 +171,7 @@ fn fs_polygon(in: PolygonVarying) -> @location(0) vec4<f32> {
         in.v01.xy, in.v01.zw, in.v23.xy, in.v23.zw,
         in.v45.xy, in.v45.zw, in.v67.xy, in.v67.zw,
     );
-    let d = sd_convex(in.local, v, min(in.count, 8u)) * camera.pixels_per_metre;
+    // A rounded shape is the polygon grown by its radius: its distance less the radius.
+    let d = (sd_convex(in.local, v, min(in.count, 8u)) - in.radius) * camera.pixels_per_metre;
     return shade(d, 1.0e6, in.color);
 }

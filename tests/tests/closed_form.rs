@@ -31,6 +31,7 @@ fn circle(radius: f32) -> ShapeDef {
 fn rect(hx: f32, hy: f32) -> ShapeDef {
     ShapeDef::Box {
         half_extents: [hx, hy],
+        radius: 0.0,
     }
 }
 

@@ -282,6 +282,7 @@ fn pyramid_with_overflow_and_kinematic() -> SceneDef {
     let mut scene = tumble_scene::builtin::build("large_pyramid").expect("large_pyramid");
     let unit = ShapeDef::Box {
         half_extents: [0.5, 0.5],
+        radius: 0.0,
     };
     for i in 0..30 {
         scene.push(BodyDef::new(unit.clone()).at(55.0 + 1.5 * i as f32, 0.5));
@@ -289,6 +290,7 @@ fn pyramid_with_overflow_and_kinematic() -> SceneDef {
     scene.push(
         BodyDef::new(ShapeDef::Box {
             half_extents: [23.0, 0.25],
+            radius: 0.0,
         })
         .at(55.0 + 1.5 * 14.5, 1.25),
     );

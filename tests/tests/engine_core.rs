@@ -23,6 +23,7 @@ fn step_checked(w: &mut World, steps: usize) {
 fn ground() -> BodyDef {
     BodyDef::new(ShapeDef::Box {
         half_extents: [20.0, 0.5],
+        radius: 0.0,
     })
     .kind(BodyKind::Static)
     .at(0.0, -0.5)
@@ -149,6 +150,7 @@ fn pyramid(rows: usize) -> World {
             let x = col as f32 + 0.5 * row as f32 - 0.5 * rows as f32;
             let b = BodyDef::new(ShapeDef::Box {
                 half_extents: [0.5, 0.5],
+                radius: 0.0,
             })
             .at(x, 0.5 + row as f32);
             w.create_body(&b).unwrap();
@@ -246,6 +248,7 @@ fn a_sleeping_pile_beside_an_awake_body_is_not_walked() {
     // A box lands on the pile's top box and wakes it: then every contact is walked.
     let on_top = BodyDef::new(ShapeDef::Box {
         half_extents: [0.4, 0.4],
+        radius: 0.0,
     })
     .at(-0.5, 11.0);
     w.create_body(&on_top).unwrap();
@@ -391,6 +394,7 @@ fn sleeping_and_waking_are_the_same_on_any_thread_count() {
     scene.push(
         BodyDef::new(ShapeDef::Box {
             half_extents: [1.0, 1.0],
+            radius: 0.0,
         })
         .at(-5.0, 0.0)
         .velocity(20.0, 0.0)
@@ -400,6 +404,7 @@ fn sleeping_and_waking_are_the_same_on_any_thread_count() {
         for j in 0..20 {
             let b = BodyDef::new(ShapeDef::Box {
                 half_extents: [0.2, 0.2],
+                radius: 0.0,
             })
             .at(i as f32 * 0.4, (j as f32 - 10.0) * 0.4)
             .awake(false);
@@ -481,6 +486,7 @@ fn falling_column(n: usize, bullet: bool) -> World {
     for k in 0..n {
         let unit = ShapeDef::Box {
             half_extents: [0.5, 0.5],
+            radius: 0.0,
         };
         scene.push(BodyDef::new(unit).at(0.0, 1.3 * k as f32).bullet(bullet));
     }

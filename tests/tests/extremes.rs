@@ -7,6 +7,7 @@ use tumble_tests::all_finite;
 fn boxed(hx: f32, hy: f32) -> ShapeDef {
     ShapeDef::Box {
         half_extents: [hx, hy],
+        radius: 0.0,
     }
 }
 

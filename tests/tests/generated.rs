@@ -10,7 +10,8 @@ fn shape() -> impl Strategy<Value = ShapeDef> {
     prop_oneof![
         (0.02f32..3.0).prop_map(|radius| ShapeDef::Circle { radius }),
         (0.02f32..3.0, 0.02f32..3.0).prop_map(|(hx, hy)| ShapeDef::Box {
-            half_extents: [hx, hy]
+            half_extents: [hx, hy],
+            radius: 0.0
         }),
         // A regular-ish polygon: n vertices on a circle at increasing angles (convex, CCW),
         // with jittered radii that may make it concave, which the loader must then refuse.
@@ -26,7 +27,10 @@ fn shape() -> impl Strategy<Value = ShapeDef> {
                         [r * jitter[i] * a.cos(), r * jitter[i] * a.sin()]
                     })
                     .collect();
-                ShapeDef::Polygon { vertices }
+                ShapeDef::Polygon {
+                    vertices,
+                    radius: 0.0,
+                }
             }),
     ]
 }
@@ -90,6 +94,7 @@ fn scene() -> impl Strategy<Value = SceneDef> {
                 s.push(
                     BodyDef::new(ShapeDef::Box {
                         half_extents: [hx, hy],
+                        radius: 0.0,
                     })
                     .kind(BodyKind::Static)
                     .at(x, y),

@@ -24,6 +24,7 @@ fn column(rows: usize, mu: f32) -> SceneDef {
     scene.push(
         BodyDef::new(ShapeDef::Box {
             half_extents: [20.0, 0.5],
+            radius: 0.0,
         })
         .kind(BodyKind::Static)
         .at(0.0, -0.5)
@@ -34,6 +35,7 @@ fn column(rows: usize, mu: f32) -> SceneDef {
         scene.push(
             BodyDef::new(ShapeDef::Box {
                 half_extents: [0.5, 0.5],
+                radius: 0.0,
             })
             .at(shift, 0.5 + i as f32)
             .friction(mu),

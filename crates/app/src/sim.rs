@@ -185,6 +185,7 @@ impl Edit {
         Edit::Create(Box::new(
             BodyDef::new(ShapeDef::Box {
                 half_extents: [h, h],
+                radius: 0.0,
             })
             .at(at.x, at.y),
         ))

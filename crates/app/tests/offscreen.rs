@@ -35,6 +35,7 @@ fn scene() -> SceneDef {
     scene.push(
         BodyDef::new(ShapeDef::Box {
             half_extents: [7.0, 0.5],
+            radius: 0.0,
         })
         .kind(BodyKind::Static)
         .at(0.0, -0.5),
@@ -47,6 +48,7 @@ fn scene() -> SceneDef {
     scene.push(circle);
     let mut boxed = BodyDef::new(ShapeDef::Box {
         half_extents: [0.9, 0.6],
+        radius: 0.0,
     })
     .at(0.5, 1.2);
     boxed.angle = 0.4;
@@ -54,6 +56,7 @@ fn scene() -> SceneDef {
     scene.push(
         BodyDef::new(ShapeDef::Polygon {
             vertices: vec![[-1.0, 0.0], [1.0, 0.0], [0.0, 1.6]],
+            radius: 0.0,
         })
         .at(3.5, 0.8),
     );
@@ -63,7 +66,13 @@ fn scene() -> SceneDef {
             [0.7 * a.cos(), 0.7 * a.sin()]
         })
         .collect();
-    scene.push(BodyDef::new(ShapeDef::Polygon { vertices: hexagon }).at(1.0, 4.0));
+    scene.push(
+        BodyDef::new(ShapeDef::Polygon {
+            vertices: hexagon,
+            radius: 0.0,
+        })
+        .at(1.0, 4.0),
+    );
     scene.push(
         BodyDef::new(ShapeDef::Circle { radius: 0.5 })
             .kind(BodyKind::Kinematic)
@@ -288,6 +297,7 @@ fn every_part_of_a_compound_body_is_drawn_and_a_sleeping_one_faded() {
         BodyDef::compound(vec![
             PartDef::new(ShapeDef::Box {
                 half_extents: [0.6, 0.6],
+                radius: 0.0,
             })
             .at(1.2, 0.0, 0.0),
             PartDef::new(ShapeDef::Circle { radius: 0.6 }).at(-1.2, 0.0, 0.0),

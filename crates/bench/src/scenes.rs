@@ -83,6 +83,7 @@ pub fn pile(n: usize, seed: u64) -> SceneDef {
     let wall = |hx: f32, hy: f32, x: f32, y: f32| {
         BodyDef::new(ShapeDef::Box {
             half_extents: [hx, hy],
+            radius: 0.0,
         })
         .kind(BodyKind::Static)
         .at(x, y)
@@ -99,6 +100,7 @@ pub fn pile(n: usize, seed: u64) -> SceneDef {
         let shape = if rng.next_u64() & 1 == 0 {
             ShapeDef::Box {
                 half_extents: [size, rng.range(0.2, 0.45)],
+                radius: 0.0,
             }
         } else {
             ShapeDef::Circle { radius: size }

@@ -7,7 +7,7 @@ use glam::Vec2;
 use crate::error::PolygonError;
 use crate::math::{Rot, Transform};
 use crate::scene::{BodyDef, ResolvedPart, ShapeDef};
-use crate::shape::{Polygon, Shape};
+use crate::shape::{Shape, chain_segments};
 
 /// A body's mass data, from all its shapes.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -26,27 +26,48 @@ pub struct BodyMass {
     pub min_extent: f32,
 }
 
-/// A part's geometry, centred on its own centroid, and where that centre sits in the body's
-/// frame. A body of one shape (`shape`) puts it at the origin as it is; a part of `shapes`
-/// at its offset and angle, a polygon's centroid carried into the offset (the contract: "a
-/// polygon in a part is not recentred").
-pub fn part_geometry(part: &ResolvedPart<'_>) -> Result<(Shape, Transform), PolygonError> {
-    if part.single {
-        return Ok((Shape::from_def(part.shape)?, Transform::IDENTITY));
-    }
-    let q = Rot::from_angle(part.angle);
-    let offset = Vec2::from(part.offset);
-    Ok(match part.shape {
-        ShapeDef::Polygon { vertices } => {
-            let (polygon, centroid) = Polygon::centred(vertices)?;
-            let local = Transform {
-                p: offset + q.apply(centroid),
-                q,
-            };
-            (Shape::Polygon(polygon), local)
+/// A part's shapes (one, or a chain's segments), each centred on its own centroid where it
+/// has area, and where each sits in the body's frame. A body of one shape (`shape`) puts it
+/// at the origin as it is; a part of `shapes` at its offset and angle, a polygon's or
+/// capsule's centroid carried into the offset (the contract: "a polygon in a part is not
+/// recentred").
+pub fn part_geometry(part: &ResolvedPart<'_>) -> Result<Vec<(Shape, Transform)>, PolygonError> {
+    let q = if part.single {
+        Rot::IDENTITY
+    } else {
+        Rot::from_angle(part.angle)
+    };
+    let offset = if part.single {
+        Vec2::ZERO
+    } else {
+        Vec2::from(part.offset)
+    };
+    if let ShapeDef::Chain { points, looped } = part.shape {
+        if points.len() < 4 {
+            return Err(PolygonError::VertexCount(points.len()));
         }
-        other => (Shape::from_def(other)?, Transform { p: offset, q }),
-    })
+        let points: Vec<Vec2> = points.iter().map(|p| Vec2::from(*p)).collect();
+        let local = Transform { p: offset, q };
+        let local = if part.single {
+            Transform::IDENTITY
+        } else {
+            local
+        };
+        return Ok(chain_segments(&points, *looped)
+            .into_iter()
+            .map(|c| (Shape::ChainSegment(c), local))
+            .collect());
+    }
+    let (shape, centroid) = Shape::centred(part.shape)?;
+    if part.single {
+        // A body of one shape: its position is the shape's centre (of mass, where it has one).
+        return Ok(vec![(shape, Transform::IDENTITY)]);
+    }
+    let local = Transform {
+        p: offset + q.apply(centroid),
+        q,
+    };
+    Ok(vec![(shape, local)])
 }
 
 impl BodyMass {
@@ -68,12 +89,21 @@ impl BodyMass {
         let mut min_extent = f32::MAX;
         for &(shape, local, density) in &shapes {
             let md = shape.mass(density);
+            // The shape's centre of mass in the body's frame (its origin but for a rounded
+            // polygon's approximation; `local.apply(ZERO)` is `local.p` exactly).
+            let c = if md.center == Vec2::ZERO {
+                local.p
+            } else {
+                local.apply(md.center)
+            };
             mass += md.mass;
             area += shape.mass(1.0).mass;
-            moment += md.mass * local.p;
+            moment += md.mass * c;
             // Parallel axis: each shape's inertia about the body's origin.
-            inertia += md.inertia + md.mass * local.p.length_squared();
-            min_extent = min_extent.min(shape.min_extent());
+            inertia += md.inertia + md.mass * c.length_squared();
+            if shape.has_area() {
+                min_extent = min_extent.min(shape.min_extent());
+            }
         }
         let center = if mass > 0.0 {
             moment / mass
@@ -105,7 +135,8 @@ impl BodyMass {
         let parts: Vec<(Shape, Transform, f32)> = def
             .parts()
             .iter()
-            .filter_map(|p| part_geometry(p).ok().map(|(s, l)| (s, l, p.density)))
+            .filter_map(|p| part_geometry(p).ok().map(|shapes| (shapes, p.density)))
+            .flat_map(|(shapes, d)| shapes.into_iter().map(move |(s, l)| (s, l, d)))
             .collect();
         BodyMass::of_shapes(parts.iter().map(|(s, l, d)| (s, *l, *d)))
     }
@@ -120,6 +151,7 @@ mod tests {
     fn one_shape_keeps_its_own_mass_and_inertia_bit_for_bit() {
         let def = BodyDef::new(ShapeDef::Box {
             half_extents: [0.7, 0.3],
+            radius: 0.0,
         })
         .density(2.5);
         let shape = Shape::from_def(def.first_shape().unwrap()).unwrap();
@@ -153,6 +185,7 @@ mod tests {
         // part's offset, so the body's centre of mass is there.
         let tri = ShapeDef::Polygon {
             vertices: vec![[0.0, 0.0], [2.0, 0.0], [1.0, 1.0]],
+            radius: 0.0,
         };
         let md = BodyMass::of_def(&BodyDef::compound(vec![PartDef::new(tri)]));
         assert!((md.center - Vec2::new(1.0, 1.0 / 3.0)).length() < 1e-6);

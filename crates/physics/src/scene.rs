@@ -35,20 +35,80 @@ pub enum ShapeDef {
         #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
         radius: f32,
     },
-    /// A rectangle centred on the body.
+    /// A rectangle centred on the body, rounded by `radius`.
     Box {
         /// Half width and half height in metres, both > 0.
         #[serde(deserialize_with = "pair::one")]
         #[cfg_attr(feature = "schema", schemars(schema_with = "schema::positive_pair"))]
         half_extents: [f32; 2],
+        /// Rounding radius (m, >= 0): the shape is every point within it of the rectangle.
+        #[serde(default, skip_serializing_if = "is_zero")]
+        #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
+        radius: f32,
     },
-    /// A convex polygon, counter-clockwise, 3 to 8 vertices, non-zero area.
+    /// A convex polygon, counter-clockwise, 3 to 8 vertices, non-zero area, rounded by
+    /// `radius`.
     Polygon {
         /// Vertices in the body's frame; the loader recentres them on their centroid.
         #[serde(deserialize_with = "pair::list")]
         #[cfg_attr(feature = "schema", schemars(schema_with = "schema::polygon"))]
         vertices: Vec<[f32; 2]>,
+        /// Rounding radius (m, >= 0).
+        #[serde(default, skip_serializing_if = "is_zero")]
+        #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
+        radius: f32,
     },
+    /// Every point within `radius` of the segment between two centres; the loader recentres
+    /// it on their midpoint.
+    Capsule {
+        /// One end of the core segment (m).
+        #[serde(deserialize_with = "pair::one")]
+        #[cfg_attr(feature = "schema", schemars(schema_with = "schema::pair"))]
+        center1: [f32; 2],
+        /// The other end, apart from the first.
+        #[serde(deserialize_with = "pair::one")]
+        #[cfg_attr(feature = "schema", schemars(schema_with = "schema::pair"))]
+        center2: [f32; 2],
+        /// Radius (m), > 0.
+        #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
+        radius: f32,
+    },
+    /// A two-sided line segment, without area (no mass), in the body's frame as given.
+    Segment {
+        /// One end (m).
+        #[serde(deserialize_with = "pair::one")]
+        #[cfg_attr(feature = "schema", schemars(schema_with = "schema::pair"))]
+        point1: [f32; 2],
+        /// The other end, apart from the first.
+        #[serde(deserialize_with = "pair::one")]
+        #[cfg_attr(feature = "schema", schemars(schema_with = "schema::pair"))]
+        point2: [f32; 2],
+    },
+    /// A chain of one-sided segments, without area (no mass): each pushes towards its
+    /// right-hand side, so a loop that keeps things inside runs clockwise. An open chain's
+    /// first and last points only shape its end segments (Box2D's ghost vertices); a loop of
+    /// n points has n segments.
+    Chain {
+        /// At least 4 points, consecutive ones apart (m).
+        #[serde(deserialize_with = "pair::list")]
+        #[cfg_attr(feature = "schema", schemars(schema_with = "schema::chain"))]
+        points: Vec<[f32; 2]>,
+        /// Whether the last point joins the first.
+        #[serde(rename = "loop", default, skip_serializing_if = "is_false")]
+        #[cfg_attr(feature = "schema", schemars(extend("default" = false)))]
+        looped: bool,
+    },
+}
+
+impl ShapeDef {
+    /// Whether the shape has area (and so can give a body mass).
+    pub fn has_area(&self) -> bool {
+        !matches!(self, ShapeDef::Segment { .. } | ShapeDef::Chain { .. })
+    }
+}
+
+fn is_zero(x: &f32) -> bool {
+    *x == 0.0
 }
 
 fn default_density() -> f32 {
@@ -766,7 +826,22 @@ impl SceneDef {
         }
         // A shape costs the step what a body of one shape does: the body limit bounds the
         // shapes of all bodies too (a few bodies of a million parts each are refused).
-        let shapes: usize = self.bodies.iter().map(|b| b.shapes.len().max(1)).sum();
+        // A chain is one shape per segment.
+        let part_shapes = |shape: &ShapeDef| match shape {
+            ShapeDef::Chain { points, .. } => points.len().max(1),
+            _ => 1,
+        };
+        let shapes: usize = self
+            .bodies
+            .iter()
+            .map(|b| {
+                b.shape.as_ref().map_or(0, part_shapes)
+                    + b.shapes
+                        .iter()
+                        .map(|p| part_shapes(&p.shape))
+                        .sum::<usize>()
+            })
+            .sum();
         if shapes > limits.max_bodies {
             return Err(scene_err(
                 "bodies",
@@ -846,6 +921,9 @@ mod pair {
         }
     }
 
+    /// Most points one list may hold.
+    const MAX_LIST: usize = 100_000;
+
     struct ListVisitor;
 
     impl<'de> Visitor<'de> for ListVisitor {
@@ -858,9 +936,12 @@ mod pair {
         fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
             let mut out = Vec::new();
             while let Some(Pair(p)) = seq.next_element::<Pair>()? {
-                // Polygons have at most 8 vertices; stop early on absurd input.
-                if out.len() > 1024 {
-                    return Err(A::Error::custom("more than 1024 vertices"));
+                // Polygons have at most 8 vertices and chains rarely thousands of points;
+                // stop early on absurd input.
+                if out.len() >= MAX_LIST {
+                    return Err(A::Error::custom(format!(
+                        "more than {MAX_LIST} points (split the chain)"
+                    )));
                 }
                 out.push(p);
             }
@@ -929,6 +1010,15 @@ mod schema {
             "items": { "type": "number", "exclusiveMinimum": 0 },
             "minItems": 2,
             "maxItems": 2
+        })
+    }
+
+    /// A chain's points (`pair::list`): at least 4 pairs.
+    pub fn chain(generator: &mut SchemaGenerator) -> Schema {
+        json_schema!({
+            "type": "array",
+            "items": pair(generator),
+            "minItems": 4
         })
     }
 
@@ -1111,24 +1201,37 @@ fn validate_body(index: usize, body: &BodyDef) -> Result<(), SceneError> {
                 }
             }
         }
-        // Validation above has checked the polygon, so this cannot fail.
-        let Ok((shape, local)) = crate::body::part_geometry(part) else {
+        // Validation above has checked the geometry, so this cannot fail.
+        let Ok(shapes) = crate::body::part_geometry(part) else {
             return Ok(());
         };
         // The world's step works in f32; shapes beyond this scale lose all precision. A
         // part's reach from the body's origin counts (its offset and, for a polygon given
         // away from its frame, its centroid).
-        let extent = shape.extent() + local.p.length();
-        if extent > 1.0e5 {
-            return Err(err(
-                &field("shape"),
-                format!("extent {extent} m"),
-                "shapes up to 100 km across",
-            ));
+        for (shape, local) in &shapes {
+            let extent = shape.extent() + local.p.length();
+            if extent > 1.0e5 {
+                return Err(err(
+                    &field("shape"),
+                    format!("extent {extent} m"),
+                    "shapes up to 100 km across",
+                ));
+            }
         }
     }
     if body.kind != BodyKind::Dynamic {
         return Ok(());
+    }
+    if !parts.iter().any(|p| p.shape.has_area()) {
+        return Err(err(
+            if body.shape.is_some() {
+                "shape"
+            } else {
+                "shapes"
+            },
+            "segments and chains only".into(),
+            "at least one part with area (Circle, Box, Polygon or Capsule) on a dynamic body: segments and chains give no mass",
+        ));
     }
     let md = crate::body::BodyMass::of_def(body);
     let extent = md.extent;
@@ -1212,7 +1315,10 @@ fn validate_shape(
                 ));
             }
         }
-        ShapeDef::Box { half_extents } => {
+        ShapeDef::Box {
+            half_extents,
+            radius,
+        } => {
             if !(finite2(*half_extents) && half_extents[0] > 0.0 && half_extents[1] > 0.0) {
                 return Err(err(
                     &format!("{field}.Box.half_extents"),
@@ -1220,8 +1326,9 @@ fn validate_shape(
                     "two finite numbers > 0 (half width, half height in metres)",
                 ));
             }
+            rounding(radius, &format!("{field}.Box.radius"), err)?;
         }
-        ShapeDef::Polygon { vertices } => {
+        ShapeDef::Polygon { vertices, radius } => {
             crate::shape::Polygon::from_vertices(vertices).map_err(|problem| {
                 err(
                     &format!("{field}.Polygon.vertices"),
@@ -1231,7 +1338,126 @@ fn validate_shape(
                     ),
                 )
             })?;
+            rounding(radius, &format!("{field}.Polygon.radius"), err)?;
+        }
+        ShapeDef::Capsule {
+            center1,
+            center2,
+            radius,
+        } => {
+            for (name, p) in [("center1", center1), ("center2", center2)] {
+                if !finite2(*p) {
+                    return Err(err(
+                        &format!("{field}.Capsule.{name}"),
+                        format!("{p:?}"),
+                        "two finite numbers (m)",
+                    ));
+                }
+            }
+            if !(radius.is_finite() && *radius > 0.0) {
+                return Err(err(
+                    &format!("{field}.Capsule.radius"),
+                    radius.to_string(),
+                    "a finite number > 0 (metres)",
+                ));
+            }
+            apart(
+                *center1,
+                *center2,
+                &format!("{field}.Capsule.center2"),
+                "the centres",
+                "(a capsule whose centres meet is a circle: use Circle)",
+                err,
+            )?;
+        }
+        ShapeDef::Segment { point1, point2 } => {
+            for (name, p) in [("point1", point1), ("point2", point2)] {
+                if !finite2(*p) {
+                    return Err(err(
+                        &format!("{field}.Segment.{name}"),
+                        format!("{p:?}"),
+                        "two finite numbers (m)",
+                    ));
+                }
+            }
+            apart(
+                *point1,
+                *point2,
+                &format!("{field}.Segment.point2"),
+                "the points",
+                "",
+                err,
+            )?;
+        }
+        ShapeDef::Chain { points, looped } => {
+            if points.len() < 4 {
+                return Err(err(
+                    &format!("{field}.Chain.points"),
+                    format!("{} points", points.len()),
+                    "at least 4 points (an open chain's first and last points only shape its end segments; for one segment use Segment)",
+                ));
+            }
+            for (k, p) in points.iter().enumerate() {
+                if !finite2(*p) {
+                    return Err(err(
+                        &format!("{field}.Chain.points[{k}]"),
+                        format!("{p:?}"),
+                        "two finite numbers (m)",
+                    ));
+                }
+            }
+            let n = points.len();
+            let pairs = if *looped { n } else { n - 1 };
+            for k in 0..pairs {
+                let next = (k + 1) % n;
+                apart(
+                    points[k],
+                    points[next],
+                    &format!("{field}.Chain.points[{next}]"),
+                    &format!("points {k} and {next}"),
+                    "(remove the repeated point)",
+                    err,
+                )?;
+            }
         }
     }
     Ok(())
+}
+
+/// A rounding radius: finite and >= 0.
+fn rounding(
+    radius: &f32,
+    field: &str,
+    err: &dyn Fn(&str, String, &str) -> SceneError,
+) -> Result<(), SceneError> {
+    if radius.is_finite() && *radius >= 0.0 {
+        Ok(())
+    } else {
+        Err(err(
+            field,
+            radius.to_string(),
+            "a finite number >= 0 (metres; 0 is sharp)",
+        ))
+    }
+}
+
+/// Two points at least the linear slop apart (Box2D asserts as much of a segment's ends).
+fn apart(
+    a: [f32; 2],
+    b: [f32; 2],
+    field: &str,
+    what: &str,
+    hint: &str,
+    err: &dyn Fn(&str, String, &str) -> SceneError,
+) -> Result<(), SceneError> {
+    let d = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
+    if d >= crate::LINEAR_SLOP {
+        Ok(())
+    } else {
+        Err(err(
+            field,
+            format!("{b:?}, {d} m from {a:?}"),
+            &format!("{what} at least {} m apart {hint}", crate::LINEAR_SLOP),
+        ))
+    }
 }

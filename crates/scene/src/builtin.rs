@@ -193,6 +193,7 @@ pub fn describe(name: &str) -> Option<&'static str> {
 fn rect(hx: f32, hy: f32) -> ShapeDef {
     ShapeDef::Box {
         half_extents: [hx, hy],
+        radius: 0.0,
     }
 }
 
@@ -258,7 +259,11 @@ fn world_polygon(world: &[[f64; 2]]) -> BodyDef {
     if area2 < 0.0 {
         vertices.reverse();
     }
-    BodyDef::new(ShapeDef::Polygon { vertices }).at(cx as f32, cy as f32)
+    BodyDef::new(ShapeDef::Polygon {
+        vertices,
+        radius: 0.0,
+    })
+    .at(cx as f32, cy as f32)
 }
 
 /// The pyramid of Box2D's `CreateLargePyramid` and Solver2D's `Pyramid`: `base_count` boxes of
@@ -876,6 +881,7 @@ fn compounds() -> SceneDef {
     let tri = |points: [[f32; 2]; 3]| {
         PartDef::new(ShapeDef::Polygon {
             vertices: points.to_vec(),
+            radius: 0.0,
         })
     };
     // Box2D's hulls of these points, counter-clockwise.
@@ -919,7 +925,10 @@ fn junkyard() -> SceneDef {
         .collect();
     // Box2D's hull: counter-clockwise around the centre.
     points.sort_by(|a, b| a[1].atan2(a[0]).total_cmp(&b[1].atan2(b[0])));
-    let pentagon = ShapeDef::Polygon { vertices: points };
+    let pentagon = ShapeDef::Polygon {
+        vertices: points,
+        radius: 0.0,
+    };
     let (columns, rows) = (200, 40);
     let mut side = -0.1f32;
     for i in 0..columns {
@@ -1057,7 +1066,11 @@ mod tests {
     fn polygons_are_convex_ccw_and_small() {
         for &name in names() {
             for (index, body) in build(name).unwrap().bodies.iter().enumerate() {
-                let Some(ShapeDef::Polygon { vertices }) = &body.shape else {
+                let Some(ShapeDef::Polygon {
+                    vertices,
+                    radius: 0.0,
+                }) = &body.shape
+                else {
                     continue;
                 };
                 let n = vertices.len();
@@ -1097,7 +1110,11 @@ mod tests {
         // The keystone's lower corners are the top corners of the highest blocks of each side.
         let scene = build("arch").unwrap();
         let world = |body: &BodyDef| -> Vec<[f32; 2]> {
-            let Some(ShapeDef::Polygon { vertices }) = &body.shape else {
+            let Some(ShapeDef::Polygon {
+                vertices,
+                radius: 0.0,
+            }) = &body.shape
+            else {
                 panic!("arch block is not a polygon")
             };
             vertices
@@ -1132,7 +1149,8 @@ mod tests {
         assert_eq!(
             wall.shape,
             Some(ShapeDef::Box {
-                half_extents: [SEGMENT_HALF_THICKNESS, 10.0]
+                half_extents: [SEGMENT_HALF_THICKNESS, 10.0],
+                radius: 0.0
             })
         );
     }

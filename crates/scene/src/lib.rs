@@ -485,6 +485,7 @@ fn json_hint(message: &str, category: serde_json::error::Category) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use tumble_physics::ShapeDef;
 
     const GOOD_RON: &str = r#"// A small scene.
 (
@@ -617,6 +618,90 @@ mod tests {
                 "typo.ron",
             ),
             &["typo.ron:", "ofset", "offset"],
+        );
+    }
+
+    #[test]
+    fn capsules_segments_chains_and_rounding_load_and_bad_ones_name_the_field() {
+        let text = one_body_ron(
+            "kind: Static, shapes: [\
+             (shape: Segment(point1: (-5, 0), point2: (5, 0))), \
+             (shape: Chain(points: [(4, 1), (2, 1), (0, 1), (-2, 1)], loop: true)), \
+             (shape: Capsule(center1: (0, 2), center2: (1, 2), radius: 0.25)), \
+             (shape: Box(half_extents: (0.5, 0.5), radius: 0.1)), \
+             (shape: Polygon(vertices: [(0, 0), (1, 0), (0, 1)], radius: 0.05))]",
+        );
+        let scene = ron(&text, "new_shapes.ron").expect("loads");
+        assert!(matches!(
+            scene.bodies[1].shapes[1].shape,
+            ShapeDef::Chain { looped: true, ref points } if points.len() == 4
+        ));
+        // JSON writes the contract's `loop` key.
+        let json_text = r#"{"bodies": [{"kind": "Static", "shape": {"Chain": {"points": [[0, 0], [1, 0], [2, 0], [3, 0]], "loop": false}}}]}"#;
+        let scene = json(json_text, "chain.json").expect("loads");
+        assert!(matches!(
+            scene.bodies[0].shape,
+            Some(ShapeDef::Chain { looped: false, .. })
+        ));
+        let bad = [
+            (
+                "shape: Capsule(center1: (0, 0), center2: (0, 0), radius: 0.5)",
+                "shape.Capsule.center2",
+            ),
+            (
+                "shape: Capsule(center1: (0, 0), center2: (1, 0), radius: -0.5)",
+                "shape.Capsule.radius",
+            ),
+            (
+                "kind: Static, shape: Segment(point1: (1, 1), point2: (1, 1))",
+                "shape.Segment.point2",
+            ),
+            (
+                "kind: Static, shape: Chain(points: [(0, 0), (1, 0), (2, 0)])",
+                "shape.Chain.points",
+            ),
+            (
+                "kind: Static, shape: Chain(points: [(0, 0), (1, 0), (1, 0), (2, 0)])",
+                "shape.Chain.points[2]",
+            ),
+            (
+                "kind: Static, shape: Chain(points: [(0, 0), (1, 0), (NaN, 0), (2, 0)])",
+                "shape.Chain.points[2]",
+            ),
+            (
+                "shape: Box(half_extents: (1, 1), radius: -0.1)",
+                "shape.Box.radius",
+            ),
+            (
+                "shape: Polygon(vertices: [(0, 0), (1, 0), (0, 1)], radius: inf)",
+                "shape.Polygon.radius",
+            ),
+            // A dynamic body of segments only has no mass.
+            (
+                "shapes: [(shape: Segment(point1: (0, 0), point2: (1, 0)))]",
+                "`shapes`",
+            ),
+            (
+                "shape: Chain(points: [(0, 0), (1, 0), (2, 0), (3, 0)])",
+                "`shape`",
+            ),
+        ];
+        for (fields, field) in bad {
+            expect_err(
+                ron(&one_body_ron(fields), "bad.ron"),
+                &["bad.ron", "body 1", field],
+            );
+        }
+        // A chain's points count against the body limit.
+        let points: String = (0..Limits::default().max_bodies + 1)
+            .map(|i| format!("({i}, 0),"))
+            .collect();
+        expect_err(
+            ron(
+                &format!("(bodies: [(kind: Static, shape: Chain(points: [{points}]))])"),
+                "long.ron",
+            ),
+            &["long.ron", "points"],
         );
     }
 
@@ -1247,7 +1332,7 @@ mod tests {
         )
         .unwrap();
         assert!(
-            matches!(&m.bodies[0].shape, Some(tumble_physics::ShapeDef::Polygon { vertices }) if vertices.len() == 3)
+            matches!(&m.bodies[0].shape, Some(tumble_physics::ShapeDef::Polygon { vertices, radius: 0.0 }) if vertices.len() == 3)
         );
     }
 }

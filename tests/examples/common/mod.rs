@@ -12,6 +12,7 @@ pub const SUBSTEPS: u32 = 4;
 pub fn add_pyramid(w: &mut World, rows: usize, x0: f32) {
     let ground = BodyDef::new(ShapeDef::Box {
         half_extents: [20.0, 0.5],
+        radius: 0.0,
     });
     w.create_body(&ground.kind(BodyKind::Static).at(x0, -0.5))
         .unwrap();
@@ -20,6 +21,7 @@ pub fn add_pyramid(w: &mut World, rows: usize, x0: f32) {
             let x = x0 + col as f32 + 0.5 * row as f32 - 0.5 * rows as f32;
             let unit = ShapeDef::Box {
                 half_extents: [0.5, 0.5],
+                radius: 0.0,
             };
             w.create_body(&BodyDef::new(unit).at(x, 0.5 + row as f32))
                 .unwrap();

@@ -30,9 +30,9 @@ pub struct CircleInstance {
     pub radius: f32,
 }
 
-/// One convex polygon: centre, rotation, colour, up to eight vertices in the shape's frame
-/// (two per `[f32; 4]`), their bounding box in the shape's frame, and the vertex count.
-/// 116 bytes.
+/// One convex polygon, maybe rounded, or a capsule (two vertices and a radius): centre,
+/// rotation, colour, up to eight vertices in the shape's frame (two per `[f32; 4]`), their
+/// bounding box in the shape's frame, the vertex count and the rounding radius. 120 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct PolygonInstance {
@@ -48,8 +48,10 @@ pub struct PolygonInstance {
     /// covers it (plus a margin for the soft edge), so a box's quad is the box itself and no
     /// fragment is shaded for nothing.
     pub bounds: [f32; 4],
-    /// Vertices used, 3 to 8.
+    /// Vertices used: 3 to 8, or 2 for a capsule.
     pub count: u32,
+    /// Rounding radius (m): the shape is every point this close to the polygon.
+    pub radius: f32,
 }
 
 /// One end of a debug line. 24 bytes.
@@ -90,8 +92,8 @@ impl CircleInstance {
 }
 
 impl PolygonInstance {
-    /// Attribute locations 0..=8, as `shapes.wgsl` reads them.
-    pub const ATTRIBUTES: [VertexAttribute; 9] = [
+    /// Attribute locations 0..=9, as `shapes.wgsl` reads them.
+    pub const ATTRIBUTES: [VertexAttribute; 10] = [
         attr(VertexFormat::Float32x2, offset_of!(Self, center), 0),
         attr(VertexFormat::Float32x2, offset_of!(Self, rotation), 1),
         attr(VertexFormat::Float32x4, offset_of!(Self, color), 2),
@@ -101,6 +103,7 @@ impl PolygonInstance {
         attr(VertexFormat::Float32x4, offset_of!(Self, vertices) + 48, 6),
         attr(VertexFormat::Float32x4, offset_of!(Self, bounds), 7),
         attr(VertexFormat::Uint32, offset_of!(Self, count), 8),
+        attr(VertexFormat::Float32, offset_of!(Self, radius), 9),
     ];
 
     /// The instance-rate buffer layout.
@@ -238,6 +241,44 @@ pub struct Instances {
     pub lines: Vec<LineVertex>,
 }
 
+/// A polygon or capsule instance: the vertices packed two per `[f32; 4]`, the quad their
+/// bounding box grown by the radius.
+fn polygon_instance(
+    center: [f32; 2],
+    rotation: [f32; 2],
+    color: [f32; 4],
+    points: &[Vec2],
+    radius: f32,
+) -> PolygonInstance {
+    let count = points.len().min(MAX_POLYGON_VERTICES);
+    let mut flat = [0.0f32; 16];
+    let (mut lo, mut hi) = (Vec2::splat(f32::MAX), Vec2::splat(f32::MIN));
+    for (k, v) in points[..count].iter().enumerate() {
+        flat[2 * k] = v.x;
+        flat[2 * k + 1] = v.y;
+        lo = lo.min(*v);
+        hi = hi.max(*v);
+    }
+    let vertices = std::array::from_fn(|j| {
+        [
+            flat[4 * j],
+            flat[4 * j + 1],
+            flat[4 * j + 2],
+            flat[4 * j + 3],
+        ]
+    });
+    let (lo, hi) = (lo - Vec2::splat(radius), hi + Vec2::splat(radius));
+    PolygonInstance {
+        center,
+        rotation,
+        color,
+        vertices,
+        bounds: [lo.x, lo.y, hi.x, hi.y],
+        count: count as u32,
+        radius,
+    }
+}
+
 fn with_dim(rgb: [f32; 3], dim: f32) -> [f32; 4] {
     let k = 1.0 - dim.clamp(0.0, 1.0);
     [rgb[0] * k, rgb[1] * k, rgb[2] * k, 1.0]
@@ -298,31 +339,30 @@ impl Instances {
                     radius: c.radius,
                 }),
                 Shape::Polygon(p) => {
-                    let count = p.count.min(MAX_POLYGON_VERTICES);
-                    let mut flat = [0.0f32; 16];
-                    let (mut lo, mut hi) = (Vec2::splat(f32::MAX), Vec2::splat(f32::MIN));
-                    for (k, v) in p.vertices[..count].iter().enumerate() {
-                        flat[2 * k] = v.x;
-                        flat[2 * k + 1] = v.y;
-                        lo = lo.min(*v);
-                        hi = hi.max(*v);
-                    }
-                    let vertices = std::array::from_fn(|j| {
-                        [
-                            flat[4 * j],
-                            flat[4 * j + 1],
-                            flat[4 * j + 2],
-                            flat[4 * j + 3],
-                        ]
-                    });
-                    self.polygons.push(PolygonInstance {
+                    self.polygons.push(polygon_instance(
                         center,
                         rotation,
                         color,
-                        vertices,
-                        bounds: [lo.x, lo.y, hi.x, hi.y],
-                        count: count as u32,
-                    });
+                        p.points(),
+                        p.radius,
+                    ));
+                }
+                Shape::Capsule(c) => {
+                    self.polygons.push(polygon_instance(
+                        center,
+                        rotation,
+                        color,
+                        &[c.center1, c.center2],
+                        c.radius,
+                    ));
+                }
+                Shape::Segment(seg) => {
+                    let (a, b) = (seg.point1, seg.point2);
+                    self.line(view.transform.apply(a), view.transform.apply(b), color);
+                }
+                Shape::ChainSegment(chain) => {
+                    let (a, b) = (chain.segment.point1, chain.segment.point2);
+                    self.line(view.transform.apply(a), view.transform.apply(b), color);
                 }
             }
         }
@@ -429,6 +469,18 @@ impl Instances {
                 }
             }
         }
+        if debug.normals {
+            // Each chain segment's pushing side: a tick from its middle towards its right.
+            for view in world.shapes() {
+                if let Shape::ChainSegment(chain) = view.shape {
+                    let a = view.transform.apply(chain.segment.point1);
+                    let b = view.transform.apply(chain.segment.point2);
+                    let side = Vec2::new(b.y - a.y, a.x - b.x).normalize_or_zero();
+                    let mid = (a + b) * 0.5;
+                    self.line(mid, mid + side * 12.0 * px, [0.4, 0.9, 1.0, 0.9]);
+                }
+            }
+        }
         if debug.graph_colors {
             let colors = world.contact_colors();
             if !colors.is_empty() {
@@ -480,7 +532,8 @@ mod tests {
     #[test]
     fn layouts_are_packed_as_the_shaders_read_them() {
         assert_eq!(size_of::<CircleInstance>(), 36);
-        assert_eq!(size_of::<PolygonInstance>(), 116);
+        assert_eq!(size_of::<PolygonInstance>(), 120);
+        assert_eq!(offset_of!(PolygonInstance, radius), 116);
         assert_eq!(size_of::<LineVertex>(), 24);
         assert_eq!(offset_of!(PolygonInstance, vertices), 32);
         assert_eq!(offset_of!(PolygonInstance, count), 112);
@@ -507,6 +560,7 @@ mod tests {
         let parts = vec![
             tumble_physics::PartDef::new(tumble_physics::ShapeDef::Box {
                 half_extents: [0.5, 0.25],
+                radius: 0.0,
             })
             .at(1.0, 0.0, 0.3),
             tumble_physics::PartDef::new(tumble_physics::ShapeDef::Circle { radius: 0.4 })
@@ -534,6 +588,7 @@ mod tests {
             let (center, rotation) = match view.shape {
                 Shape::Circle(_) => (inst.circles[0].center, inst.circles[0].rotation),
                 Shape::Polygon(_) => (inst.polygons[0].center, inst.polygons[0].rotation),
+                other => panic!("the scene has no {other:?}"),
             };
             assert_eq!(center, view.transform.p.to_array());
             assert_eq!(rotation, [view.transform.q.c, view.transform.q.s]);

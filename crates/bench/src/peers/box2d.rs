@@ -30,8 +30,9 @@
 
 use anyhow::{Result, bail};
 use boxdd::{
-    BodyBuilder, BodyId, BodyType, Circle, Filter, Foundation, MotionLocks, Polygon, Position, Rot,
-    ShapeDef, SurfaceMaterial, Transform, Vec2, WorkerCount, World, WorldBuilder, WorldTransform,
+    BodyBuilder, BodyId, BodyType, ChainDef, Circle, Filter, Foundation, MotionLocks, Polygon,
+    Position, Rot, ShapeDef, SurfaceMaterial, Transform, Vec2, WorkerCount, World, WorldBuilder,
+    WorldTransform,
 };
 use tumble_physics::{BodyKind, SceneDef, StepSettings};
 
@@ -150,6 +151,7 @@ impl Box2d {
                         half_extents: [hx, hy],
                         center: [0.0, 0.0],
                         angle: 0.0,
+                        radius: 0.0,
                     } => {
                         ok(body.create_box(&shape_def, hx, hy), &what)?;
                     }
@@ -157,20 +159,55 @@ impl Box2d {
                         half_extents: [hx, hy],
                         center,
                         angle,
+                        radius,
                     } => {
                         let xf = ok(Transform::from_pos_angle(center, angle), &what)?;
-                        let polygon = ok(Polygon::offset_box_polygon(hx, hy, xf), &what)?;
+                        let polygon = ok(
+                            Polygon::offset_rounded_box_polygon(hx, hy, radius, xf),
+                            &what,
+                        )?;
                         ok(body.create_polygon(&shape_def, &polygon), &what)?;
                     }
                     PartShape::Circle { center, radius } => {
                         let circle = ok(Circle::new(center, radius), &what)?;
                         ok(body.create_circle(&shape_def, &circle), &what)?;
                     }
-                    PartShape::Polygon(points) => {
+                    PartShape::Polygon(points, radius) => {
                         ok(
-                            body.create_polygon_from_points(&shape_def, points, 0.0),
+                            body.create_polygon_from_points(&shape_def, points, radius),
                             &what,
                         )?;
+                    }
+                    PartShape::Capsule {
+                        center1,
+                        center2,
+                        radius,
+                    } => {
+                        ok(
+                            body.create_capsule_between(&shape_def, center1, center2, radius),
+                            &what,
+                        )?;
+                    }
+                    PartShape::Segment { point1, point2 } => {
+                        ok(
+                            body.create_segment_between(&shape_def, point1, point2),
+                            &what,
+                        )?;
+                    }
+                    PartShape::Chain { points, looped } => {
+                        let chain = ok(
+                            ChainDef::builder()
+                                .points(points)
+                                .is_loop(looped)
+                                .single_material(&material)
+                                .filter(
+                                    filter(&part.filter)
+                                        .map_err(|e| anyhow::anyhow!("{what}: {e}"))?,
+                                )
+                                .build(),
+                            &what,
+                        )?;
+                        ok(body.create_chain(&chain), &what)?;
                     }
                 }
             }
@@ -308,10 +345,12 @@ mod tests {
         scene.sleep = false;
         let unit = TumbleShape::Box {
             half_extents: [0.5, 0.5],
+            radius: 0.0,
         };
         scene.push(
             BodyDef::new(TumbleShape::Box {
                 half_extents: [100.0, 1.0],
+                radius: 0.0,
             })
             .kind(BodyKind::Static)
             .at(0.0, -1.0),

@@ -116,14 +116,25 @@ pub(crate) enum PartShape {
     /// A disc.
     Circle { center: [f32; 2], radius: f32 },
     /// A rectangle of these half extents, centred at `center`, turned by `angle` (Box2D's
-    /// `b2MakeOffsetBox`; `b2MakeBox` when both are zero).
+    /// `b2MakeOffsetBox`; `b2MakeBox` when both are zero), rounded by `radius`.
     Box {
         half_extents: [f32; 2],
         center: [f32; 2],
         angle: f32,
+        radius: f32,
     },
-    /// A convex polygon, counter-clockwise.
-    Polygon(Vec<[f32; 2]>),
+    /// A convex polygon, counter-clockwise, rounded by the radius.
+    Polygon(Vec<[f32; 2]>, f32),
+    /// A capsule between two centres.
+    Capsule {
+        center1: [f32; 2],
+        center2: [f32; 2],
+        radius: f32,
+    },
+    /// A two-sided segment.
+    Segment { point1: [f32; 2], point2: [f32; 2] },
+    /// A one-sided chain (Box2D's `b2ChainDef`: an open chain's end points are ghosts).
+    Chain { points: Vec<[f32; 2]>, looped: bool },
 }
 
 /// A part's shape in its body's frame. A body of one shape (`part.single`) keeps tumble's
@@ -147,23 +158,56 @@ pub(crate) fn part_shape(part: &tumble_physics::ResolvedPart<'_>) -> Result<Part
             center: place(Vec2::ZERO),
             radius: *radius,
         },
-        ShapeDef::Box { half_extents } => PartShape::Box {
+        ShapeDef::Box {
+            half_extents,
+            radius,
+        } => PartShape::Box {
             half_extents: *half_extents,
             center: place(Vec2::ZERO),
             angle: if part.single { 0.0 } else { part.angle },
+            radius: *radius,
         },
-        ShapeDef::Polygon { vertices } => {
+        ShapeDef::Polygon { vertices, radius } => {
             if part.single {
                 let Shape::Polygon(p) =
                     Shape::from_def(part.shape).map_err(|e| anyhow::anyhow!("bad polygon: {e}"))?
                 else {
                     anyhow::bail!("a polygon that does not build as one");
                 };
-                PartShape::Polygon(p.points().iter().map(|v| [v.x, v.y]).collect())
+                PartShape::Polygon(p.points().iter().map(|v| [v.x, v.y]).collect(), *radius)
             } else {
-                PartShape::Polygon(vertices.iter().map(|&v| place(Vec2::from(v))).collect())
+                PartShape::Polygon(
+                    vertices.iter().map(|&v| place(Vec2::from(v))).collect(),
+                    *radius,
+                )
             }
         }
+        ShapeDef::Capsule {
+            center1,
+            center2,
+            radius,
+        } => {
+            // A body of one capsule is centred on its midpoint, as tumble loads it.
+            let (c1, c2) = (Vec2::from(*center1), Vec2::from(*center2));
+            let mid = if part.single {
+                (c1 + c2) * 0.5
+            } else {
+                Vec2::ZERO
+            };
+            PartShape::Capsule {
+                center1: place(c1 - mid),
+                center2: place(c2 - mid),
+                radius: *radius,
+            }
+        }
+        ShapeDef::Segment { point1, point2 } => PartShape::Segment {
+            point1: place(Vec2::from(*point1)),
+            point2: place(Vec2::from(*point2)),
+        },
+        ShapeDef::Chain { points, looped } => PartShape::Chain {
+            points: points.iter().map(|&v| place(Vec2::from(v))).collect(),
+            looped: *looped,
+        },
     })
 }
 
@@ -264,11 +308,13 @@ mod tests {
         let parts = vec![
             PartDef::new(ShapeDef::Box {
                 half_extents: [0.5, 0.25],
+                radius: 0.0,
             })
             .at(1.0, 0.5, 0.3)
             .density(2.0),
             PartDef::new(ShapeDef::Polygon {
                 vertices: vec![[-1.0, 0.0], [0.5, 1.0], [0.0, 2.0]],
+                radius: 0.0,
             })
             .at(-0.5, 0.0, 0.0),
         ];
@@ -344,6 +390,7 @@ mod tests {
         let mut scene = SceneDef::new("asleep");
         let unit = ShapeDef::Box {
             half_extents: [0.5, 0.5],
+            radius: 0.0,
         };
         scene.push(BodyDef::new(unit.clone()).at(0.0, 10.0).awake(false));
         scene.push(BodyDef::new(unit.clone()).at(10.0, 10.0));
@@ -397,21 +444,25 @@ mod tests {
             BodyDef::compound(vec![
                 PartDef::new(ShapeDef::Box {
                     half_extents: [3.0, 0.5],
+                    radius: 0.0,
                 })
                 .at(-9.0, 0.0, 0.0)
                 .filter(ground),
                 PartDef::new(ShapeDef::Box {
                     half_extents: [3.0, 0.5],
+                    radius: 0.0,
                 })
                 .at(-3.0, 0.0, 0.0)
                 .filter(grouped(-2)),
                 PartDef::new(ShapeDef::Box {
                     half_extents: [3.0, 0.5],
+                    radius: 0.0,
                 })
                 .at(3.0, 0.0, 0.0)
                 .filter(grouped(3)),
                 PartDef::new(ShapeDef::Box {
                     half_extents: [3.0, 0.5],
+                    radius: 0.0,
                 })
                 .at(9.0, 0.0, 0.0)
                 .filter(ground),
@@ -420,6 +471,7 @@ mod tests {
         );
         let unit = ShapeDef::Box {
             half_extents: [0.5, 0.5],
+            radius: 0.0,
         };
         let filters = [
             tumble_physics::Filter {

@@ -213,16 +213,54 @@ impl Rapier {
                         half_extents: [hx, hy],
                         center,
                         angle,
-                    } => ColliderBuilder::cuboid(hx, hy)
-                        .translation(Vector::from(center))
-                        .rotation(angle),
+                        radius,
+                    } => if radius > 0.0 {
+                        ColliderBuilder::round_cuboid(hx, hy, radius)
+                    } else {
+                        ColliderBuilder::cuboid(hx, hy)
+                    }
+                    .translation(Vector::from(center))
+                    .rotation(angle),
                     PartShape::Circle { center, radius } => {
                         ColliderBuilder::ball(radius).translation(Vector::from(center))
                     }
-                    PartShape::Polygon(points) => ColliderBuilder::convex_polyline(
-                        points.into_iter().map(Vector::from).collect(),
-                    )
-                    .with_context(|| format!("{}: the polygon is not convex for Rapier", what()))?,
+                    PartShape::Polygon(points, radius) => {
+                        let points = points.into_iter().map(Vector::from).collect();
+                        if radius > 0.0 {
+                            ColliderBuilder::round_convex_polyline(points, radius)
+                        } else {
+                            ColliderBuilder::convex_polyline(points)
+                        }
+                        .with_context(|| {
+                            format!("{}: the polygon is not convex for Rapier", what())
+                        })?
+                    }
+                    PartShape::Capsule {
+                        center1,
+                        center2,
+                        radius,
+                    } => ColliderBuilder::capsule_from_endpoints(
+                        Vector::from(center1),
+                        Vector::from(center2),
+                        radius,
+                    ),
+                    PartShape::Segment { point1, point2 } => {
+                        ColliderBuilder::segment(Vector::from(point1), Vector::from(point2))
+                    }
+                    PartShape::Chain { points, looped } => {
+                        // Rapier's polylines are two-sided and have no ghost vertices: an
+                        // open chain's end points, which only shape Box2D's and tumble's end
+                        // segments, are left out.
+                        let mut vertices: Vec<Vector> =
+                            points.into_iter().map(Vector::from).collect();
+                        if looped {
+                            vertices.push(vertices[0]);
+                        } else {
+                            vertices.pop();
+                            vertices.remove(0);
+                        }
+                        ColliderBuilder::polyline(vertices, None)
+                    }
                 };
                 let f = part.filter;
                 let (category, mask) = (bits.map(f.category), bits.map(f.mask));

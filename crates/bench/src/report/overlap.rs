@@ -137,6 +137,7 @@ mod tests {
     fn unit_box() -> ShapeDef {
         ShapeDef::Box {
             half_extents: [0.5, 0.5],
+            radius: 0.0,
         }
     }
 
@@ -147,6 +148,7 @@ mod tests {
             scene.push(
                 BodyDef::new(ShapeDef::Box {
                     half_extents: [10.0, 0.5],
+                    radius: 0.0,
                 })
                 .kind(BodyKind::Static)
                 .at(origin, origin - 0.5),

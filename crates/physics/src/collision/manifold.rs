@@ -1,4 +1,11 @@
-//! Contact manifolds for each shape pair: circle–circle, polygon–circle, polygon–polygon.
+//! Contact manifolds for each shape pair.
+//!
+//! Shape A is the one later in Box2D's order of shape types (circle, capsule, polygon,
+//! segment, chain segment): circle–circle, capsule–circle, capsule–capsule, polygon–circle,
+//! polygon–capsule, polygon–polygon, segment–{circle, capsule, polygon} and chain
+//! segment–{circle, capsule, polygon}. Segments never meet segments. Capsules and segments go
+//! through the polygon routines as two-vertex polygons with a radius ([`Polygon::capsule`]);
+//! rounded polygons carry their radius through them.
 //!
 //! The algorithms follow Box2D v3 (`manifold.c`): points lie midway between the two
 //! surfaces with a signed separation, the normal points from A to B, and every point carries
@@ -9,8 +16,8 @@
 use glam::Vec2;
 
 use crate::LINEAR_SLOP;
-use crate::math::{Transform, dot, normalize_and_length};
-use crate::shape::{Circle, Polygon, Shape};
+use crate::math::{Transform, dot, normalize_and_length, right_perp};
+use crate::shape::{Capsule, ChainSegment, Circle, Polygon, Segment, Shape};
 
 /// One contact point.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -64,8 +71,10 @@ fn make_id(a: usize, b: usize) -> u16 {
     ((a as u16 & 0xff) << 8) | (b as u16 & 0xff)
 }
 
-/// Computes the manifold between two shapes at their transforms. Polygon–circle expects the
-/// polygon as shape A; the world orders each pair so.
+/// Computes the manifold between two shapes at their transforms, the normal from A to B.
+/// The world makes A the shape later in the order of shape types ([`Shape::rank`]); any
+/// other order is served by swapping and flipping. Two segments (or chain segments) give no
+/// points.
 pub fn collide(
     shape_a: &Shape,
     xf_a: Transform,
@@ -73,19 +82,49 @@ pub fn collide(
     xf_b: Transform,
     max_distance: f32,
 ) -> Manifold {
+    use Shape as S;
+    let d = max_distance;
     match (shape_a, shape_b) {
-        (Shape::Circle(a), Shape::Circle(b)) => collide_circles(a, xf_a, b, xf_b, max_distance),
-        (Shape::Polygon(a), Shape::Circle(b)) => {
-            collide_polygon_circle(a, xf_a, b, xf_b, max_distance)
+        (S::Circle(a), S::Circle(b)) => collide_circles(a, xf_a, b, xf_b, d),
+        (S::Capsule(a), S::Circle(b)) => {
+            collide_capsule_circle(a.center1, a.center2, a.radius, xf_a, b, xf_b, d)
         }
-        (Shape::Circle(a), Shape::Polygon(b)) => {
-            // Not produced by the world; kept total by flipping.
-            let mut m = collide_polygon_circle(b, xf_b, a, xf_a, max_distance);
+        (S::Capsule(a), S::Capsule(b)) => {
+            collide_polygons(&capsule_polygon(a), xf_a, &capsule_polygon(b), xf_b, d)
+        }
+        (S::Polygon(a), S::Circle(b)) => collide_polygon_circle(a, xf_a, b, xf_b, d),
+        (S::Polygon(a), S::Capsule(b)) => collide_polygons(a, xf_a, &capsule_polygon(b), xf_b, d),
+        (S::Polygon(a), S::Polygon(b)) => collide_polygons(a, xf_a, b, xf_b, d),
+        (S::Segment(a), S::Circle(b)) => {
+            collide_capsule_circle(a.point1, a.point2, 0.0, xf_a, b, xf_b, d)
+        }
+        (S::Segment(a), S::Capsule(b)) => {
+            collide_polygons(&segment_polygon(a), xf_a, &capsule_polygon(b), xf_b, d)
+        }
+        (S::Segment(a), S::Polygon(b)) => collide_polygons(&segment_polygon(a), xf_a, b, xf_b, d),
+        (S::ChainSegment(a), S::Circle(b)) => collide_chain_segment_circle(a, xf_a, b, xf_b, d),
+        (S::ChainSegment(a), S::Capsule(b)) => {
+            collide_chain_segment_polygon(a, xf_a, &capsule_polygon(b), xf_b, d)
+        }
+        (S::ChainSegment(a), S::Polygon(b)) => collide_chain_segment_polygon(a, xf_a, b, xf_b, d),
+        (S::Segment(_) | S::ChainSegment(_), S::Segment(_) | S::ChainSegment(_)) => {
+            Manifold::default()
+        }
+        _ => {
+            // A before B in the order: not produced by the world; kept total by flipping.
+            let mut m = collide(shape_b, xf_b, shape_a, xf_a, max_distance);
             flip(&mut m);
             m
         }
-        (Shape::Polygon(a), Shape::Polygon(b)) => collide_polygons(a, xf_a, b, xf_b, max_distance),
     }
+}
+
+fn capsule_polygon(c: &Capsule) -> Polygon {
+    Polygon::capsule(c.center1, c.center2, c.radius)
+}
+
+fn segment_polygon(s: &Segment) -> Polygon {
+    Polygon::capsule(s.point1, s.point2, 0.0)
 }
 
 fn flip(m: &mut Manifold) {
@@ -152,7 +191,45 @@ pub fn collide_circles(
     single(xf_a, xf_b, normal, mid, sep, 0)
 }
 
-/// Polygon (A) against circle (B): face contact or one of the two vertex regions.
+/// Capsule (or segment, radius 0) A against circle B: the closest point of A's core segment
+/// to B's centre (Box2D's `b2CollideCapsuleAndCircle`).
+#[allow(clippy::too_many_arguments)]
+pub fn collide_capsule_circle(
+    p1: Vec2,
+    p2: Vec2,
+    radius_a: f32,
+    xf_a: Transform,
+    b: &Circle,
+    xf_b: Transform,
+    max_distance: f32,
+) -> Manifold {
+    let c = xf_a.apply_inv(xf_b.p);
+    let e = p2 - p1;
+    let s1 = dot(c - p1, e);
+    let s2 = dot(p2 - c, e);
+    let closest = if s1 < 0.0 {
+        p1
+    } else if s2 < 0.0 {
+        p2
+    } else {
+        p1 + e * (s1 / dot(e, e))
+    };
+    let (mut normal, dist) = normalize_and_length(c - closest);
+    let sep = dist - radius_a - b.radius;
+    if sep > max_distance {
+        return Manifold::default();
+    }
+    if dist == 0.0 {
+        // The centre on the core: the core's left normal, the same every run.
+        normal = Vec2::new(-e.y, e.x).normalize_or(Vec2::Y);
+    }
+    let ca = closest + normal * radius_a;
+    let cb = c - normal * b.radius;
+    single(xf_a, xf_b, normal, (ca + cb) * 0.5, sep, 0)
+}
+
+/// Polygon (A, maybe rounded) against circle (B): face contact or one of the two vertex
+/// regions (Box2D's `b2CollidePolygonAndCircle`).
 pub fn collide_polygon_circle(
     a: &Polygon,
     xf_a: Transform,
@@ -161,7 +238,8 @@ pub fn collide_polygon_circle(
     max_distance: f32,
 ) -> Manifold {
     let c = xf_a.apply_inv(xf_b.p);
-    let radius = b.radius;
+    let radius_a = a.radius;
+    let radius = radius_a + b.radius;
     let n = a.count;
     let mut best = 0;
     let mut separation = f32::MIN;
@@ -194,13 +272,14 @@ pub fn collide_polygon_circle(
             if sep > max_distance {
                 return Manifold::default();
             }
-            let cb = c - normal * radius;
-            single(xf_a, xf_b, normal, (v + cb) * 0.5, sep, 0)
+            let ca = v + normal * radius_a;
+            let cb = c - normal * b.radius;
+            single(xf_a, xf_b, normal, (ca + cb) * 0.5, sep, 0)
         }
         None => {
             let normal = a.normals[best];
-            let ca = c - normal * dot(c - v1, normal);
-            let cb = c - normal * radius;
+            let ca = c - normal * (dot(c - v1, normal) - radius_a);
+            let cb = c - normal * b.radius;
             single(xf_a, xf_b, normal, (ca + cb) * 0.5, dot(cb - ca, normal), 0)
         }
     }
@@ -283,8 +362,9 @@ fn segment_distance(p1: Vec2, q1: Vec2, p2: Vec2, q2: Vec2) -> SegmentDistance {
     }
 }
 
-/// Polygon against polygon: SAT both ways, then clip the incident edge against the
-/// reference face (Box2D v3's `b2CollidePolygons` and `b2ClipPolygons`).
+/// Polygon against polygon, either maybe rounded or a two-vertex capsule or segment: SAT of
+/// the cores both ways, then clip the incident edge against the reference face, the points
+/// moved out by the radii (Box2D v3's `b2CollidePolygons` and `b2ClipPolygons`).
 pub fn collide_polygons(
     a: &Polygon,
     xf_a: Transform,
@@ -311,7 +391,8 @@ pub fn collide_polygons(
     let (an, bn) = (&a.normals[..na], &nbv[..nb]);
     let (mut edge_a, sep_a) = find_max_separation(va, an, vb);
     let (mut edge_b, sep_b) = find_max_separation(vb, bn, va);
-    if sep_a > max_distance || sep_b > max_distance {
+    let radius = a.radius + b.radius;
+    if sep_a - radius > max_distance || sep_b - radius > max_distance {
         return Manifold::default();
     }
     // The reference face is the one of greater separation; the incident edge is the other
@@ -334,7 +415,12 @@ pub fn collide_polygons(
     } else {
         edge_b = most_anti_parallel(an[edge_a], bn);
     }
-    let clipped = || clip(xf_a, xf_b, origin, va, an, vb, bn, edge_a, edge_b, flip);
+    let radii = (a.radius, b.radius);
+    let clipped = || {
+        clip(
+            xf_a, xf_b, origin, va, an, vb, bn, radii, edge_a, edge_b, flip,
+        )
+    };
     if sep_a.max(sep_b) <= 0.1 * LINEAR_SLOP {
         // Overlapping (or all but touching): clip.
         return clipped();
@@ -349,12 +435,12 @@ pub fn collide_polygons(
     let (v11, v12, v21, v22) = (va[i11], va[i12], vb[i21], vb[i22]);
     let sd = segment_distance(v11, v12, v21, v22);
     let distance = sd.distance_squared.sqrt();
-    if distance > max_distance {
+    if distance - radius > max_distance {
         return Manifold::default();
     }
     let m = clipped();
     let min_separation = m.points().iter().fold(f32::MAX, |s, p| s.min(p.separation));
-    if distance + 0.1 * LINEAR_SLOP >= min_separation {
+    if distance - radius + 0.1 * LINEAR_SLOP >= min_separation {
         return m;
     }
     let corner = |f: f32, first: (Vec2, usize), second: (Vec2, usize)| {
@@ -372,8 +458,16 @@ pub fn collide_polygons(
     ) {
         (Some((p1, k1)), Some((p2, k2))) if distance > 0.0 => {
             let n = (p2 - p1) * (1.0 / distance);
-            let mid = p1 + n * (0.5 * distance);
-            single(xf_a, xf_b, n, mid + origin, distance, make_id(k1, k2))
+            // Midway between the two rounded surfaces.
+            let mid = p1 + n * (0.5 * (distance + a.radius - b.radius));
+            single(
+                xf_a,
+                xf_b,
+                n,
+                mid + origin,
+                distance - radius,
+                make_id(k1, k2),
+            )
         }
         _ => m,
     }
@@ -390,14 +484,15 @@ fn clip(
     an: &[Vec2],
     vb: &[Vec2],
     bn: &[Vec2],
+    (radius_a, radius_b): (f32, f32),
     edge_a: usize,
     edge_b: usize,
     flip: bool,
 ) -> Manifold {
-    let ((v1s, n1s, e1), (v2s, e2)) = if flip {
-        ((vb, bn, edge_b), (va, edge_a))
+    let ((v1s, n1s, e1, r1), (v2s, e2, r2)) = if flip {
+        ((vb, bn, edge_b, radius_b), (va, edge_a, radius_a))
     } else {
-        ((va, an, edge_a), (vb, edge_b))
+        ((va, an, edge_a, radius_a), (vb, edge_b, radius_b))
     };
     let i11 = e1;
     let i12 = (e1 + 1) % v1s.len();
@@ -427,9 +522,11 @@ fn clip(
     };
     let sep_lower = dot(v_lower - v11, normal);
     let sep_upper = dot(v_upper - v11, normal);
-    // Midway between the surfaces.
-    let p_lower = v_lower - normal * (0.5 * sep_lower) + origin;
-    let p_upper = v_upper - normal * (0.5 * sep_upper) + origin;
+    // Midway between the surfaces, each moved out by its radius.
+    let p_lower = v_lower + normal * (0.5 * (r1 - r2 - sep_lower)) + origin;
+    let p_upper = v_upper + normal * (0.5 * (r1 - r2 - sep_upper)) + origin;
+    let radius = r1 + r2;
+    let (sep_lower, sep_upper) = (sep_lower - radius, sep_upper - radius);
     let (n_ab, pts) = if flip {
         (
             -normal,
@@ -463,6 +560,459 @@ fn clip(
         };
     }
     m
+}
+
+/// Chain segment A against circle B: one-sided, and a centre in the region of a neighbour's
+/// vertex is left to that neighbour, so a ball rolling across a joint meets one segment at a
+/// time (Box2D's `b2CollideChainSegmentAndCircle`).
+pub fn collide_chain_segment_circle(
+    a: &ChainSegment,
+    xf_a: Transform,
+    b: &Circle,
+    xf_b: Transform,
+    max_distance: f32,
+) -> Manifold {
+    let c = xf_a.apply_inv(xf_b.p);
+    let (p1, p2) = (a.segment.point1, a.segment.point2);
+    let e = p2 - p1;
+    // The pushing side is the right-hand one.
+    if dot(right_perp(e), c - p1) < 0.0 {
+        return Manifold::default();
+    }
+    let u = dot(e, p2 - c);
+    let v = dot(e, c - p1);
+    let closest = if v <= 0.0 {
+        // Behind point1: the previous segment's if the centre is in its region.
+        if dot(p1 - a.ghost1, c - p1) <= 0.0 {
+            return Manifold::default();
+        }
+        p1
+    } else if u <= 0.0 {
+        // Ahead of point2: the next segment's if the centre is in its region.
+        if dot(a.ghost2 - p2, c - p2) > 0.0 {
+            return Manifold::default();
+        }
+        p2
+    } else {
+        p1 + e * (v / dot(e, e))
+    };
+    let (mut normal, dist) = normalize_and_length(c - closest);
+    let sep = dist - b.radius;
+    if sep > max_distance {
+        return Manifold::default();
+    }
+    if dist == 0.0 {
+        normal = right_perp(e).normalize_or(Vec2::Y);
+    }
+    let cb = c - normal * b.radius;
+    single(xf_a, xf_b, normal, (closest + cb) * 0.5, sep, 0)
+}
+
+/// The closest features of a segment and a convex polygon's core (two or more vertices, in
+/// the same frame): what a distance query (GJK) would report, found here by testing the
+/// segment against each of the polygon's at most 8 edges.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct SegmentPolygonDistance {
+    distance: f32,
+    /// The closest point on the segment.
+    point_a: Vec2,
+    /// The closest point on the polygon.
+    point_b: Vec2,
+    /// The segment's vertex (0 or 1) that is closest, or `None` for its interior.
+    vertex_a: Option<usize>,
+    /// The polygon's closest edge, and its vertex (0 for the edge's start, 1 for its end)
+    /// that is closest, or `None` for the edge's interior.
+    edge_b: usize,
+    vertex_b: Option<usize>,
+}
+
+fn segment_polygon_distance(p1: Vec2, p2: Vec2, vertices: &[Vec2]) -> SegmentPolygonDistance {
+    let n = vertices.len();
+    let mut best: Option<(SegmentDistance, usize)> = None;
+    for j in 0..n {
+        let sd = segment_distance(p1, p2, vertices[j], vertices[(j + 1) % n]);
+        if best
+            .as_ref()
+            .is_none_or(|(b, _)| sd.distance_squared < b.distance_squared)
+        {
+            best = Some((sd, j));
+        }
+    }
+    let (sd, j) = best.expect("a polygon has edges");
+    let (w1, w2) = (vertices[j], vertices[(j + 1) % n]);
+    let end = |f: f32| {
+        if f == 0.0 {
+            Some(0)
+        } else if f == 1.0 {
+            Some(1)
+        } else {
+            None
+        }
+    };
+    // A segment end inside a polygon of area is no distance from it.
+    let inside = |p: Vec2| {
+        n >= 3
+            && (0..n).all(|k| {
+                let e = vertices[(k + 1) % n] - vertices[k];
+                crate::math::cross(e, p - vertices[k]) >= 0.0
+            })
+    };
+    let distance = if inside(p1) || inside(p2) {
+        0.0
+    } else {
+        sd.distance_squared.sqrt()
+    };
+    SegmentPolygonDistance {
+        distance,
+        point_a: p1 + (p2 - p1) * sd.fraction1,
+        point_b: w1 + (w2 - w1) * sd.fraction2,
+        vertex_a: end(sd.fraction1),
+        edge_b: j,
+        vertex_b: end(sd.fraction2),
+    }
+}
+
+/// Clips incident segment `b1`–`b2` (running against the tangent) to reference segment
+/// `a1`–`a2` whose `normal` points towards it; the points lie midway between the surfaces
+/// moved out by the radii `ra` and `rb` (Box2D's `b2ClipSegments`). In A's frame.
+#[allow(clippy::too_many_arguments)]
+fn clip_segments(
+    (a1, a2): (Vec2, Vec2),
+    (b1, b2): (Vec2, Vec2),
+    normal: Vec2,
+    ra: f32,
+    rb: f32,
+    ids: (u16, u16),
+) -> Option<[(Vec2, f32, u16); 2]> {
+    let tangent = Vec2::new(-normal.y, normal.x);
+    let lower1 = 0.0;
+    let upper1 = dot(a2 - a1, tangent);
+    let upper2 = dot(b1 - a1, tangent);
+    let lower2 = dot(b2 - a1, tangent);
+    if upper2 < lower1 || upper1 < lower2 {
+        return None;
+    }
+    let span = upper2 - lower2;
+    let v_lower = if lower2 < lower1 && span > f32::EPSILON {
+        b2.lerp(b1, (lower1 - lower2) / span)
+    } else {
+        b2
+    };
+    let v_upper = if upper2 > upper1 && span > f32::EPSILON {
+        b2.lerp(b1, (upper1 - lower2) / span)
+    } else {
+        b1
+    };
+    let sep_lower = dot(v_lower - a1, normal);
+    let sep_upper = dot(v_upper - a1, normal);
+    let radius = ra + rb;
+    Some([
+        (
+            v_lower + normal * (0.5 * (ra - rb - sep_lower)),
+            sep_lower - radius,
+            ids.0,
+        ),
+        (
+            v_upper + normal * (0.5 * (ra - rb - sep_upper)),
+            sep_upper - radius,
+            ids.1,
+        ),
+    ])
+}
+
+/// A manifold of points given in A's frame.
+fn local_manifold(
+    xf_a: Transform,
+    xf_b: Transform,
+    normal_local: Vec2,
+    points: &[(Vec2, f32, u16)],
+) -> Manifold {
+    let mut m = Manifold {
+        normal: xf_a.q.apply(normal_local),
+        count: points.len(),
+        ..Manifold::default()
+    };
+    for (k, &(local, separation, id)) in points.iter().enumerate() {
+        let (anchor_a, anchor_b) = anchors(xf_a, xf_b, local);
+        m.points[k] = ManifoldPoint {
+            anchor_a,
+            anchor_b,
+            separation,
+            id,
+            ..ManifoldPoint::default()
+        };
+    }
+    m
+}
+
+/// How a candidate normal (from the chain segment towards B) relates to the chain's
+/// neighbouring segments, by where it falls on the Gauss map of the joints (Box2D's
+/// `b2ClassifyNormal`; box2d.org/posts/2020/06/ghost-collisions).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum NormalType {
+    /// Past a convex joint into the neighbour's range: the neighbour owns this contact.
+    Skip,
+    /// Within the segment's own range: use it.
+    Admit,
+    /// At a concave joint: use the segment's own normal instead.
+    Snap,
+}
+
+struct ChainJoints {
+    edge1: Vec2,
+    normal0: Vec2,
+    normal2: Vec2,
+    convex1: bool,
+    convex2: bool,
+}
+
+impl ChainJoints {
+    fn classify(&self, normal: Vec2) -> NormalType {
+        use crate::math::cross;
+        // sin of about half a degree: normals this close to a neighbour's count as its.
+        const SIN_TOL: f32 = 0.01;
+        let (convex, past) = if dot(normal, self.edge1) <= 0.0 {
+            (self.convex1, cross(normal, self.normal0) > SIN_TOL)
+        } else {
+            (self.convex2, cross(self.normal2, normal) > SIN_TOL)
+        };
+        match (convex, past) {
+            (false, _) => NormalType::Snap,
+            (true, true) => NormalType::Skip,
+            (true, false) => NormalType::Admit,
+        }
+    }
+}
+
+/// Chain segment A against polygon B (maybe rounded, or a capsule as a two-vertex polygon):
+/// one-sided, and a normal that belongs to a neighbouring segment is left to it, so a box
+/// sliding across the joint between two segments does not catch on it (Box2D's
+/// `b2CollideChainSegmentAndPolygon`, with the closest features found by
+/// [`segment_polygon_distance`] instead of GJK).
+pub fn collide_chain_segment_polygon(
+    a: &ChainSegment,
+    xf_a: Transform,
+    b: &Polygon,
+    xf_b: Transform,
+    max_distance: f32,
+) -> Manifold {
+    use crate::math::cross;
+    let xf = xf_a.inv_mul(xf_b);
+    let count = b.count;
+    let mut vertices = [Vec2::ZERO; 8];
+    let mut normals = [Vec2::ZERO; 8];
+    for i in 0..count {
+        vertices[i] = xf.apply(b.vertices[i]);
+        normals[i] = xf.q.apply(b.normals[i]);
+    }
+    // Every shape with area is centred on its frame's origin (a capsule's core too).
+    let centroid = xf.p;
+    let (vertices, normals) = (&vertices[..count], &normals[..count]);
+    let radius_b = b.radius;
+    let (p1, p2) = (a.segment.point1, a.segment.point2);
+    let edge1 = normalize_and_length(p2 - p1).0;
+    // A joint is convex when the chain turns left there: less than 0.01 is straight.
+    const CONVEX_TOL: f32 = 0.01;
+    let edge0 = normalize_and_length(p1 - a.ghost1).0;
+    let edge2 = normalize_and_length(a.ghost2 - p2).0;
+    let joints = ChainJoints {
+        edge1,
+        normal0: right_perp(edge0),
+        normal2: right_perp(edge2),
+        convex1: cross(edge0, edge1) >= CONVEX_TOL,
+        convex2: cross(edge1, edge2) >= CONVEX_TOL,
+    };
+    let normal1 = right_perp(edge1);
+    let behind1 = dot(normal1, centroid - p1) < 0.0;
+    let behind0 = !joints.convex1 || dot(joints.normal0, centroid - p1) < 0.0;
+    let behind2 = !joints.convex2 || dot(joints.normal2, centroid - p2) < 0.0;
+    if behind1 && behind0 && behind2 {
+        // One-sided: B is behind this segment and its convex neighbours.
+        return Manifold::default();
+    }
+    let closest = segment_polygon_distance(p1, p2, vertices);
+    if closest.distance > radius_b + max_distance {
+        return Manifold::default();
+    }
+    // At a concave joint the neighbour's normal is replaced by this segment's.
+    let n0 = if joints.convex1 {
+        joints.normal0
+    } else {
+        normal1
+    };
+    let n2 = if joints.convex2 {
+        joints.normal2
+    } else {
+        normal1
+    };
+    let next = |i: usize| if i + 1 < count { i + 1 } else { 0 };
+    // Whether the neighbour on the side of the segment's deeper end is the one B's face
+    // `n` meets first (then it owns the contact).
+    let neighbour_incident = |n: Vec2, a1: Vec2| {
+        let (d1, d2) = (dot(n, p1 - a1), dot(n, p2 - a1));
+        let neighbour = if d1 < d2 { n0 } else { n2 };
+        dot(neighbour, n) < dot(normal1, n)
+    };
+    // B's face `reference` against the segment: B is the reference, the normal flipped to
+    // run from A to B.
+    let polygon_face = |reference: usize| {
+        let (ia1, ia2) = (reference, next(reference));
+        let n = normals[ia1];
+        if neighbour_incident(n, vertices[ia1]) {
+            return Manifold::default();
+        }
+        match clip_segments(
+            (vertices[ia1], vertices[ia2]),
+            (p1, p2),
+            n,
+            radius_b,
+            0.0,
+            (make_id(ia1, 1), make_id(ia2, 0)),
+        ) {
+            Some(points) => local_manifold(xf_a, xf_b, -n, &points),
+            None => Manifold::default(),
+        }
+    };
+    // The polygon edge that meets the segment's face: given directly, or the one of the
+    // incident vertex's two edges most against the segment's normal.
+    enum Incident {
+        Edge(usize),
+        Vertex(usize),
+    }
+    let incident;
+    if !behind1 && closest.distance > 0.1 * LINEAR_SLOP {
+        match (closest.vertex_a, closest.vertex_b) {
+            (Some(ia), Some(jb)) => {
+                // Vertex against vertex.
+                let ib = if jb == 0 {
+                    closest.edge_b
+                } else {
+                    next(closest.edge_b)
+                };
+                let normal = normalize_and_length(closest.point_b - closest.point_a).0;
+                match joints.classify(normal) {
+                    NormalType::Skip => return Manifold::default(),
+                    NormalType::Admit => {
+                        let cb = closest.point_b - normal * radius_b;
+                        let point = (closest.point_a + cb) * 0.5;
+                        let sep = closest.distance - radius_b;
+                        return local_manifold(
+                            xf_a,
+                            xf_b,
+                            normal,
+                            &[(point, sep, make_id(ia, ib))],
+                        );
+                    }
+                    NormalType::Snap => incident = Incident::Vertex(ib),
+                }
+            }
+            (Some(_), None) => {
+                // A segment vertex against a polygon edge: of the edge's side normals, the
+                // one facing the segment (a capsule's core has two, back to back).
+                let (ib1, ib2) = (closest.edge_b, next(closest.edge_b));
+                let towards = closest.point_a - closest.point_b;
+                let ib = if dot(towards, normals[ib1]) > dot(towards, normals[ib2]) {
+                    ib1
+                } else {
+                    ib2
+                };
+                let normal_b = normals[ib];
+                match joints.classify(-normal_b) {
+                    NormalType::Skip => return Manifold::default(),
+                    NormalType::Admit => return polygon_face(ib),
+                    NormalType::Snap => incident = Incident::Edge(ib),
+                }
+            }
+            (None, vertex_b) => {
+                // The segment's interior against a polygon vertex (or an edge parallel to
+                // it): the deeper of the edge's two ends along the segment's normal.
+                let (ib1, ib2) = (closest.edge_b, next(closest.edge_b));
+                let ib = match vertex_b {
+                    Some(0) => ib1,
+                    Some(_) => ib2,
+                    None => {
+                        let d1 = dot(normal1, vertices[ib1] - p1);
+                        let d2 = dot(normal1, vertices[ib2] - p2);
+                        if d1 < d2 { ib1 } else { ib2 }
+                    }
+                };
+                incident = Incident::Vertex(ib);
+            }
+        }
+    } else {
+        // Overlapping (or B's centre behind the segment): separating axes. The segment's
+        // normal, and its convex neighbours' (which, if they separate more, own B).
+        let mut edge_separation = f32::MAX;
+        let mut incident_index = None;
+        for (i, v) in vertices.iter().enumerate() {
+            let s = dot(normal1, *v - p1);
+            if s < edge_separation {
+                edge_separation = s;
+                incident_index = Some(i);
+            }
+        }
+        for (convex, n, p) in [
+            (joints.convex1, joints.normal0, p1),
+            (joints.convex2, joints.normal2, p2),
+        ] {
+            if convex {
+                let s = vertices.iter().fold(f32::MAX, |m, v| m.min(dot(n, *v - p)));
+                if s > edge_separation {
+                    edge_separation = s;
+                    incident_index = None;
+                }
+            }
+        }
+        // B's face normals that this segment may own.
+        let mut polygon_separation = f32::MIN;
+        let mut reference = None;
+        for i in 0..count {
+            let n = normals[i];
+            if joints.classify(-n) != NormalType::Admit {
+                continue;
+            }
+            let v = vertices[i];
+            let s = dot(n, p2 - v).min(dot(n, p1 - v));
+            if s > polygon_separation {
+                polygon_separation = s;
+                reference = Some(i);
+            }
+        }
+        if let Some(r) = reference
+            && polygon_separation > edge_separation
+        {
+            return polygon_face(r);
+        }
+        match incident_index {
+            // A neighbouring segment separates more: it owns B.
+            None => return Manifold::default(),
+            Some(i) => incident = Incident::Vertex(i),
+        }
+    }
+    // The segment is the reference face; B's incident edge is the one next to the incident
+    // vertex most against the segment's normal.
+    let (ib1, ib2) = match incident {
+        Incident::Edge(i) => (i, next(i)),
+        Incident::Vertex(i2) => {
+            let i1 = if i2 > 0 { i2 - 1 } else { count - 1 };
+            if dot(normal1, normals[i1]) < dot(normal1, normals[i2]) {
+                (i1, i2)
+            } else {
+                (i2, next(i2))
+            }
+        }
+    };
+    match clip_segments(
+        (p1, p2),
+        (vertices[ib1], vertices[ib2]),
+        normal1,
+        0.0,
+        radius_b,
+        (make_id(0, ib2), make_id(1, ib1)),
+    ) {
+        Some(points) => local_manifold(xf_a, xf_b, normal1, &points),
+        None => Manifold::default(),
+    }
 }
 
 #[cfg(test)]
@@ -618,5 +1168,311 @@ mod tests {
         let bx = Polygon::new_box(0.5, 0.5);
         let m = collide_polygons(&bx, xf(0.0, 0.0, 0.0), &bx, xf(3.0, 0.0, 0.3), MAX);
         assert_eq!(m.count, 0);
+    }
+
+    fn capsule(x1: f32, y1: f32, x2: f32, y2: f32, r: f32) -> Shape {
+        Shape::Capsule(Capsule {
+            center1: Vec2::new(x1, y1),
+            center2: Vec2::new(x2, y2),
+            radius: r,
+        })
+    }
+
+    /// A chain segment from `p1` to `p2` between ghosts `g1` and `g2`.
+    fn chain(g1: [f32; 2], p1: [f32; 2], p2: [f32; 2], g2: [f32; 2]) -> Shape {
+        Shape::ChainSegment(ChainSegment {
+            ghost1: Vec2::from(g1),
+            segment: Segment {
+                point1: Vec2::from(p1),
+                point2: Vec2::from(p2),
+            },
+            ghost2: Vec2::from(g2),
+        })
+    }
+
+    fn at(x: f32, y: f32) -> Transform {
+        xf(x, y, 0.0)
+    }
+
+    /// Sorted x of the points' world positions (A at the origin: `anchor_a`).
+    fn xs(m: &Manifold) -> Vec<f32> {
+        let mut v: Vec<f32> = m.points().iter().map(|p| p.anchor_a.x).collect();
+        v.sort_by(f32::total_cmp);
+        v
+    }
+
+    #[test]
+    fn capsule_against_circle_side_and_end() {
+        // Core (-1,0)-(1,0), radius 0.25; a circle of 0.5 above x = 0.3 at height 0.7: the
+        // closest core point is (0.3, 0), so the separation is 0.7 - 0.75.
+        let cap = capsule(-1.0, 0.0, 1.0, 0.0, 0.25);
+        let ball = Shape::Circle(Circle { radius: 0.5 });
+        let m = collide(&cap, at(0.0, 0.0), &ball, at(0.3, 0.7), MAX);
+        assert_eq!(m.count, 1);
+        assert!((m.normal - Vec2::Y).length() < 1e-6);
+        assert!((m.points[0].separation + 0.05).abs() < 1e-6);
+        // Midway between the capsule's surface (y = 0.25) and the circle's (y = 0.2).
+        assert!((m.points[0].anchor_a - Vec2::new(0.3, 0.225)).length() < 1e-6);
+        // Past the end (1, 0): the normal runs from the end centre to the circle's centre.
+        let m = collide(&cap, at(0.0, 0.0), &ball, at(1.7, 0.0), MAX);
+        assert!((m.normal - Vec2::X).length() < 1e-6);
+        assert!((m.points[0].separation + 0.05).abs() < 1e-6);
+    }
+
+    #[test]
+    fn segment_against_circle_is_a_capsule_of_radius_zero() {
+        let seg = Shape::Segment(Segment {
+            point1: Vec2::new(-1.0, 0.0),
+            point2: Vec2::new(1.0, 0.0),
+        });
+        let ball = Shape::Circle(Circle { radius: 0.5 });
+        // Two-sided: from below as from above.
+        for y in [0.49f32, -0.49] {
+            let m = collide(&seg, at(0.0, 0.0), &ball, at(0.2, y), MAX);
+            assert_eq!(m.count, 1);
+            assert!((m.normal - Vec2::new(0.0, y.signum())).length() < 1e-6);
+            assert!((m.points[0].separation + 0.01).abs() < 1e-6);
+            // Midway between the line and the circle's lowest point, 0.01 past it.
+            assert!((m.points[0].anchor_a.y - y.signum() * -0.005).abs() < 1e-6);
+        }
+    }
+
+    #[test]
+    fn parallel_capsules_clip_to_two_points() {
+        // Two capsules of core length 2 and radius 0.25, B 0.45 above A and 0.5 to the right:
+        // the cores overlap on x in [-0.5, 1]; the separation is 0.45 - 0.5 at both ends of
+        // the overlap, the points midway between the surfaces (y = 0.25 and y = 0.2).
+        let cap = capsule(-1.0, 0.0, 1.0, 0.0, 0.25);
+        let m = collide(&cap, at(0.0, 0.0), &cap, at(0.5, 0.45), MAX);
+        assert_eq!(m.count, 2);
+        assert!((m.normal - Vec2::Y).length() < 1e-6);
+        for p in m.points() {
+            assert!((p.separation + 0.05).abs() < 1e-6, "{}", p.separation);
+            assert!((p.anchor_a.y - 0.225).abs() < 1e-6);
+        }
+        let x = xs(&m);
+        assert!(
+            (x[0] + 0.5).abs() < 1e-6 && (x[1] - 1.0).abs() < 1e-6,
+            "{x:?}"
+        );
+        // Distinct feature ids, so each point keeps its impulse.
+        assert_ne!(m.points[0].id, m.points[1].id);
+    }
+
+    #[test]
+    fn crossed_capsules_meet_at_one_point() {
+        // B turned 90° and 0.45 above A's core: the cores' closest points are (0,0) and
+        // (0,0.45), interior to both, so one point, normal +y, separation 0.45 - 0.5.
+        let cap = capsule(-1.0, 0.0, 1.0, 0.0, 0.25);
+        let m = collide(
+            &cap,
+            at(0.0, 0.0),
+            &cap,
+            xf(0.0, 1.45, std::f32::consts::FRAC_PI_2),
+            MAX,
+        );
+        assert!(m.count >= 1);
+        assert!((m.normal - Vec2::Y).length() < 1e-5, "{:?}", m.normal);
+        let deepest = m.points().iter().fold(f32::MAX, |s, p| s.min(p.separation));
+        // B's lower end centre is at y = 0.45: 0.45 - 0.25 - 0.25.
+        assert!((deepest + 0.05).abs() < 1e-5, "{deepest}");
+    }
+
+    #[test]
+    fn capsule_lying_on_a_box() {
+        // Ground box of half height 0.5; a capsule's core 0.24 above its top, radius 0.25:
+        // 0.01 deep at both ends of the core, points midway between y = 0.5 and y = 0.49.
+        let ground = Shape::Polygon(Polygon::new_box(5.0, 0.5));
+        let cap = capsule(-1.0, 0.0, 1.0, 0.0, 0.25);
+        let m = collide(&ground, at(0.0, 0.0), &cap, at(0.0, 0.74), MAX);
+        assert_eq!(m.count, 2);
+        assert!((m.normal - Vec2::Y).length() < 1e-6);
+        for p in m.points() {
+            assert!((p.separation + 0.01).abs() < 1e-5, "{}", p.separation);
+            assert!((p.anchor_a.y - 0.495).abs() < 1e-5);
+        }
+        let x = xs(&m);
+        assert!(
+            (x[0] + 1.0).abs() < 1e-5 && (x[1] - 1.0).abs() < 1e-5,
+            "{x:?}"
+        );
+    }
+
+    #[test]
+    fn rounded_box_rests_on_its_rounded_surface() {
+        // A unit box rounded by 0.1 whose core's bottom is 0.09 above the ground: 0.01 deep.
+        let ground = Shape::Polygon(Polygon::new_box(5.0, 0.5));
+        let mut core = Polygon::new_box(0.5, 0.5);
+        core.radius = 0.1;
+        let rounded = Shape::Polygon(core);
+        let m = collide(&ground, at(0.0, 0.0), &rounded, at(0.0, 1.09), MAX);
+        assert_eq!(m.count, 2);
+        assert!((m.normal - Vec2::Y).length() < 1e-6);
+        for p in m.points() {
+            assert!((p.separation + 0.01).abs() < 1e-5, "{}", p.separation);
+            // Midway between the ground (0.5) and the rounded bottom (0.49).
+            assert!((p.anchor_a.y - 0.495).abs() < 1e-5);
+        }
+        // The core's width: the points sit under its bottom corners.
+        let x = xs(&m);
+        assert!(
+            (x[0] + 0.5).abs() < 1e-5 && (x[1] - 0.5).abs() < 1e-5,
+            "{x:?}"
+        );
+        // Off the rounded corner along the diagonal, a circle meets the corner's arc: the
+        // core corner (0.5, 0.5) + 0.1 along (1,1)/√2, then a 0.01 gap to a circle of 0.2.
+        let ball = Shape::Circle(Circle { radius: 0.2 });
+        let d = (0.1 + 0.01 + 0.2) / 2f32.sqrt();
+        let m = collide(&rounded, at(0.0, 0.0), &ball, at(0.5 + d, 0.5 + d), MAX);
+        assert_eq!(m.count, 1);
+        assert!((m.normal - Vec2::new(1.0, 1.0).normalize()).length() < 1e-5);
+        assert!((m.points[0].separation - 0.01).abs() < 1e-5);
+    }
+
+    #[test]
+    fn rounded_polygon_against_circle_face() {
+        // Box (1, 0.5) rounded by 0.1, a circle of 0.25 at height 0.84: 0.34 above the core's
+        // top face, 0.35 of radii: 0.01 deep, the point midway between y = 0.6 and y = 0.59.
+        let mut core = Polygon::new_box(1.0, 0.5);
+        core.radius = 0.1;
+        let ball = Circle { radius: 0.25 };
+        let m = collide_polygon_circle(&core, at(0.0, 0.0), &ball, at(0.3, 0.84), MAX);
+        assert_eq!(m.count, 1);
+        assert!((m.normal - Vec2::Y).length() < 1e-6);
+        assert!((m.points[0].separation + 0.01).abs() < 1e-6);
+        assert!((m.points[0].anchor_a - Vec2::new(0.3, 0.595)).length() < 1e-6);
+    }
+
+    #[test]
+    fn box_on_a_segment() {
+        // A long segment on the x axis and a unit box 0.01 into it, centred at x = 1.
+        let seg = Shape::Segment(Segment {
+            point1: Vec2::new(-5.0, 0.0),
+            point2: Vec2::new(5.0, 0.0),
+        });
+        let bx = Shape::Polygon(Polygon::new_box(0.5, 0.5));
+        let m = collide(&seg, at(0.0, 0.0), &bx, at(1.0, 0.49), MAX);
+        assert_eq!(m.count, 2);
+        assert!((m.normal - Vec2::Y).length() < 1e-6);
+        for p in m.points() {
+            assert!((p.separation + 0.01).abs() < 1e-5);
+            assert!((p.anchor_a.y + 0.005).abs() < 1e-5);
+        }
+        let x = xs(&m);
+        assert!(
+            (x[0] - 0.5).abs() < 1e-5 && (x[1] - 1.5).abs() < 1e-5,
+            "{x:?}"
+        );
+        // Two segments never meet.
+        let m = collide(&seg, at(0.0, 0.0), &seg, xf(0.0, 0.0, 0.5), MAX);
+        assert_eq!(m.count, 0);
+    }
+
+    #[test]
+    fn chain_segment_pushes_only_to_its_right() {
+        // The segment (2,0) -> (-2,0) pushes up: its right-hand side is (dy, -dx) = (0, 4).
+        let s = chain([4.0, 0.0], [2.0, 0.0], [-2.0, 0.0], [-4.0, 0.0]);
+        let ball = Shape::Circle(Circle { radius: 0.5 });
+        let m = collide(&s, at(0.0, 0.0), &ball, at(0.0, 0.49), MAX);
+        assert_eq!(m.count, 1);
+        assert!((m.normal - Vec2::Y).length() < 1e-6);
+        assert!((m.points[0].separation + 0.01).abs() < 1e-6);
+        // From below, nothing.
+        let m = collide(&s, at(0.0, 0.0), &ball, at(0.0, -0.49), MAX);
+        assert_eq!(m.count, 0);
+        let bx = Shape::Polygon(Polygon::new_box(0.5, 0.5));
+        let m = collide(&s, at(0.0, 0.0), &bx, at(0.0, 0.49), MAX);
+        assert_eq!(m.count, 2);
+        assert!((m.normal - Vec2::Y).length() < 1e-6);
+        for p in m.points() {
+            assert!((p.separation + 0.01).abs() < 1e-5, "{}", p.separation);
+        }
+        let m = collide(&s, at(0.0, 0.0), &bx, at(0.0, -0.49), MAX);
+        assert_eq!(m.count, 0);
+    }
+
+    #[test]
+    fn a_centre_past_a_chain_vertex_belongs_to_the_neighbour() {
+        // Beyond point1 (2,0) the circle is in the previous segment's region ((4,0) -> (2,0)
+        // owns it): this segment reports nothing there, so the joint gives one contact.
+        let s = chain([4.0, 0.0], [2.0, 0.0], [-2.0, 0.0], [-4.0, 0.0]);
+        let prev = chain([6.0, 0.0], [4.0, 0.0], [2.0, 0.0], [-2.0, 0.0]);
+        let ball = Shape::Circle(Circle { radius: 0.5 });
+        let m = collide(&s, at(0.0, 0.0), &ball, at(2.3, 0.3), MAX);
+        assert_eq!(m.count, 0);
+        let m = collide(&prev, at(0.0, 0.0), &ball, at(2.3, 0.3), MAX);
+        assert_eq!(m.count, 1);
+        assert!((m.normal - Vec2::Y).length() < 1e-6);
+    }
+
+    #[test]
+    fn a_box_crossing_a_chain_joint_meets_no_edge() {
+        // Two collinear segments meet at (0,0). A unit box 0.01 deep in the left one, its
+        // right face 0.015 short of the joint: a lone two-sided segment (2,0)-(0,0) would
+        // report its end vertex against the box's right face (a sideways normal, the snag
+        // that stops a sliding box); the chain segment reports nothing.
+        let right = chain([6.0, 0.0], [2.0, 0.0], [0.0, 0.0], [-2.0, 0.0]);
+        let bx = Shape::Polygon(Polygon::new_box(0.5, 0.5));
+        let pose = at(-0.515, 0.49);
+        let lone = Shape::Segment(Segment {
+            point1: Vec2::new(2.0, 0.0),
+            point2: Vec2::new(0.0, 0.0),
+        });
+        let snag = collide(&lone, at(0.0, 0.0), &bx, pose, MAX);
+        assert!((snag.normal + Vec2::X).length() < 1e-5, "{:?}", snag.normal);
+        // The end vertex 0.015 from the face (the clip keeps the far end as well).
+        let nearest = snag
+            .points()
+            .iter()
+            .fold(f32::MAX, |s, p| s.min(p.separation));
+        assert!((nearest - 0.015).abs() < 1e-5, "{nearest}");
+        let m = collide(&right, at(0.0, 0.0), &bx, pose, MAX);
+        assert!(
+            m.points().is_empty() || (m.normal - Vec2::Y).length() < 1e-5,
+            "{m:?}"
+        );
+        // The left segment holds the box up.
+        let left = chain([2.0, 0.0], [0.0, 0.0], [-2.0, 0.0], [-6.0, 0.0]);
+        let m = collide(&left, at(0.0, 0.0), &bx, pose, MAX);
+        assert_eq!(m.count, 2);
+        assert!((m.normal - Vec2::Y).length() < 1e-6);
+    }
+
+    #[test]
+    fn capsule_lying_on_a_chain() {
+        let s = chain([4.0, 0.0], [2.0, 0.0], [-2.0, 0.0], [-4.0, 0.0]);
+        let cap = capsule(-1.0, 0.0, 1.0, 0.0, 0.25);
+        let m = collide(&s, at(0.0, 0.0), &cap, at(0.0, 0.24), MAX);
+        assert_eq!(m.count, 2);
+        assert!((m.normal - Vec2::Y).length() < 1e-6);
+        for p in m.points() {
+            assert!((p.separation + 0.01).abs() < 1e-5, "{}", p.separation);
+            // Midway between the chain (y = 0) and the capsule's bottom (y = -0.01).
+            assert!((p.anchor_a.y + 0.005).abs() < 1e-5);
+        }
+        let x = xs(&m);
+        assert!(
+            (x[0] + 1.0).abs() < 1e-5 && (x[1] - 1.0).abs() < 1e-5,
+            "{x:?}"
+        );
+    }
+
+    #[test]
+    fn a_box_past_a_convex_chain_corner_belongs_to_the_next_segment() {
+        // A chain turning left at (0,0) — from along -x to along -y — is convex there (a
+        // corner of a box-shaped platform, walked clockwise). A box resting against the
+        // platform's vertical side is the next segment's contact, not this one's.
+        let top = chain([4.0, 0.0], [2.0, 0.0], [0.0, 0.0], [0.0, -2.0]);
+        let side = chain([2.0, 0.0], [0.0, 0.0], [0.0, -2.0], [0.0, -4.0]);
+        let bx = Shape::Polygon(Polygon::new_box(0.5, 0.5));
+        let pose = at(-0.49, -1.0);
+        let m = collide(&top, at(0.0, 0.0), &bx, pose, MAX);
+        assert_eq!(m.count, 0, "{m:?}");
+        let m = collide(&side, at(0.0, 0.0), &bx, pose, MAX);
+        assert_eq!(m.count, 2);
+        assert!((m.normal + Vec2::X).length() < 1e-5, "{:?}", m.normal);
+        for p in m.points() {
+            assert!((p.separation + 0.01).abs() < 1e-5, "{}", p.separation);
+        }
     }
 }

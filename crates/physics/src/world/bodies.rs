@@ -103,12 +103,16 @@ impl World {
             self.kinematic_count += 1;
         }
         let parts = def.parts();
-        for part in &parts {
+        for (k, part) in parts.iter().enumerate() {
             // Validation has checked every shape, so this cannot fail.
-            let Ok((shape, local)) = part_geometry(part) else {
+            let Ok(shapes) = part_geometry(part) else {
                 continue;
             };
-            self.insert_shape(index, shape, local, part);
+            // Every shape of a part (a chain's segments) carries the part's index.
+            self.records[i].parts = k as u32;
+            for (shape, local) in shapes {
+                self.insert_shape(index, shape, local, part);
+            }
         }
         self.records[i].parts = parts.len() as u32;
         // A body of one shape: its position is its centre of mass (its one shape is centred
@@ -542,12 +546,33 @@ impl World {
     }
 
     /// Adds a shape to a body (between steps), checked as a scene part would be; the body's
-    /// mass data follow.
+    /// mass data follow. A chain is several shapes: use [`World::create_shapes`].
     pub fn create_shape(&mut self, body: BodyId, part: &PartDef) -> Result<ShapeId, WorldError> {
+        if matches!(part.shape, crate::scene::ShapeDef::Chain { .. }) {
+            return Err(WorldError::Invalid {
+                what: "shape".into(),
+                why: "a chain is one shape per segment: add it with create_shapes".into(),
+            });
+        }
+        self.create_shapes(body, part).map(|ids| ids[0])
+    }
+
+    /// Adds a part to a body (between steps): one shape, or one per segment of a chain, in
+    /// order. Checked as a scene part would be; the body's mass data follow.
+    pub fn create_shapes(
+        &mut self,
+        body: BodyId,
+        part: &PartDef,
+    ) -> Result<Vec<ShapeId>, WorldError> {
         let i = self.slot(body)?;
         // Check it as the part of a one-part body of this kind.
         let mut def = BodyDef::compound(vec![part.clone()]);
         def.kind = self.sims[i].kind;
+        if !part.shape.has_area() && def.kind == BodyKind::Dynamic {
+            // A segment or chain gives no mass: it may join a dynamic body that has some,
+            // which the destroy rule below keeps so; check its numbers as a static part's.
+            def.kind = BodyKind::Static;
+        }
         let one = SceneDef {
             bodies: vec![def.clone()],
             ..SceneDef::new("")
@@ -555,18 +580,21 @@ impl World {
         one.validate(&Limits::default())?;
         let parts = def.parts();
         let resolved = &parts[0];
-        let (shape, local) = part_geometry(resolved).map_err(|e| WorldError::Invalid {
+        let shapes = part_geometry(resolved).map_err(|e| WorldError::Invalid {
             what: "shape".into(),
             why: e.to_string(),
         })?;
         // Appended as the body's last part.
-        let id = self.insert_shape(i as u32, shape, local, resolved);
+        let ids: Vec<ShapeId> = shapes
+            .into_iter()
+            .map(|(shape, local)| self.insert_shape(i as u32, shape, local, resolved))
+            .collect();
         self.records[i].parts += 1;
         self.wake_body(i as u32);
         self.update_mass(i as u32);
         self.refresh_shape_boxes(i as u32);
         self.debug_validate();
-        Ok(id)
+        Ok(ids)
     }
 
     /// Destroys one shape (between steps). A dynamic body keeps at least one shape with
@@ -578,7 +606,11 @@ impl World {
         if self.sims[i].kind == BodyKind::Dynamic {
             let others = self
                 .shapes_of_body(i)
-                .filter(|&o| o as usize != s && self.shape_records[o as usize].density > 0.0)
+                .filter(|&o| {
+                    o as usize != s
+                        && self.shape_records[o as usize].density > 0.0
+                        && self.shapes[o as usize].has_area()
+                })
                 .count();
             if others == 0 {
                 return Err(WorldError::Invalid {

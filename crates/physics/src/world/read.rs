@@ -260,11 +260,7 @@ impl World {
             .find(|&s| {
                 let v = self.shape_view(s);
                 let local = v.transform.apply_inv(point);
-                match v.shape {
-                    Shape::Circle(c) => local.length_squared() <= c.radius * c.radius,
-                    Shape::Polygon(p) => (0..p.count)
-                        .all(|k| crate::math::dot(p.normals[k], local - p.vertices[k]) <= 0.0),
-                }
+                v.shape.contains(local)
             })
             .map(|s| self.shape_records[s].body as usize)
     }

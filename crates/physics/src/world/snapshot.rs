@@ -140,8 +140,20 @@ impl World {
         let bad_shape = snapshot.shapes.iter().enumerate().any(|(s, shape)| {
             let r = &snapshot.shape_records[s];
             let bad_geometry = match shape {
-                Shape::Polygon(p) => !(3..=crate::MAX_POLYGON_VERTICES).contains(&p.count),
-                Shape::Circle(_) => false,
+                Shape::Polygon(p) => {
+                    !((3..=crate::MAX_POLYGON_VERTICES).contains(&p.count)
+                        && p.radius.is_finite()
+                        && p.radius >= 0.0)
+                }
+                Shape::Circle(c) => !(c.radius.is_finite() && c.radius > 0.0),
+                Shape::Capsule(c) => {
+                    !(c.radius.is_finite() && c.radius > 0.0)
+                        || (c.center2 - c.center1).length() < crate::LINEAR_SLOP
+                }
+                Shape::Segment(seg) => (seg.point2 - seg.point1).length() < crate::LINEAR_SLOP,
+                Shape::ChainSegment(c) => {
+                    (c.segment.point2 - c.segment.point1).length() < crate::LINEAR_SLOP
+                }
             };
             live_shape(s as u32)
                 && (bad_geometry

@@ -167,6 +167,7 @@ impl World {
         let records = &self.shape_records;
         let moved_flags = &self.moved_flags;
         let pairs = &self.pairs;
+        let shapes = &self.shapes;
         // A new contact only for a pair of shapes of two bodies, one of them dynamic (no
         // other pair can ever push anything), whose core boxes overlap too (always, with a
         // static shape), whose filters let them touch, neither a sensor, that has none yet.
@@ -182,6 +183,7 @@ impl World {
                     let (rp, rq) = (&records[p as usize], &records[q as usize]);
                     !rp.sensor && !rq.sensor && rp.filter.should_collide(&rq.filter)
                 }
+                && Shape::pair_collides(&shapes[p as usize], &shapes[q as usize])
         };
         if self.moved.len() * 2 > self.broad_phase.proxy_count() {
             // Most proxies moved (smash, an explosion, the first step): walk the tree against
@@ -272,11 +274,10 @@ impl World {
 
     /// A contact between shapes `i` and `j`.
     fn create_contact(&mut self, i: u32, j: u32) {
-        // Polygon first when a polygon meets a circle; otherwise the lower id first.
+        // Shape A is the one later in Box2D's order of shape types (so each pair of types
+        // has one manifold routine); of two of a type, the lower id.
         let (mut a, mut b) = if i < j { (i, j) } else { (j, i) };
-        if matches!(self.shapes[a as usize], Shape::Circle(_))
-            && matches!(self.shapes[b as usize], Shape::Polygon(_))
-        {
+        if self.shapes[a as usize].rank() < self.shapes[b as usize].rank() {
             std::mem::swap(&mut a, &mut b);
         }
         let (ra, rb) = (

@@ -6,6 +6,7 @@ fn ball_on_ground() -> World {
     w.add_body(
         &BodyDef::new(ShapeDef::Box {
             half_extents: [5.0, 0.5],
+            radius: 0.0,
         })
         .kind(BodyKind::Static),
     )
@@ -282,6 +283,7 @@ fn thread_count_changes_between_steps_keep_the_result() {
         w.set_wide_thresholds(WideThresholds::ALWAYS);
         let ground = BodyDef::new(ShapeDef::Box {
             half_extents: [40.0, 0.5],
+            radius: 0.0,
         });
         w.add_body(&ground.kind(BodyKind::Static)).unwrap();
         for row in 0..30 {
@@ -289,6 +291,7 @@ fn thread_count_changes_between_steps_keep_the_result() {
                 let x = col as f32 + row as f32 * 0.5 - 15.0;
                 let unit = ShapeDef::Box {
                     half_extents: [0.5, 0.5],
+                    radius: 0.0,
                 };
                 w.add_body(&BodyDef::new(unit).at(x, 1.0 + row as f32))
                     .unwrap();
@@ -317,6 +320,7 @@ fn pyramid_in_rain(settings: StepSettings) -> World {
     w.add_body(
         &BodyDef::new(ShapeDef::Box {
             half_extents: [20.0, 0.5],
+            radius: 0.0,
         })
         .kind(BodyKind::Static),
     )
@@ -327,6 +331,7 @@ fn pyramid_in_rain(settings: StepSettings) -> World {
             w.add_body(
                 &BodyDef::new(ShapeDef::Box {
                     half_extents: [0.5, 0.5],
+                    radius: 0.0,
                 })
                 .at(x, 1.0 + row as f32),
             )
@@ -392,6 +397,7 @@ fn a_restored_snapshot_continues_bit_for_bit() {
     for i in 0..12 {
         let body = BodyDef::new(ShapeDef::Box {
             half_extents: [0.3, 0.2],
+            radius: 0.0,
         })
         .at(i as f32 * 0.5 - 3.0, 2.0 + i as f32 * 0.3)
         .angle(0.1 * i as f32);
