@@ -336,6 +336,28 @@ fn benchmark_scenes_are_bit_identical_on_1_to_4_real_workers() {
 }
 
 #[test]
+fn the_new_shapes_are_bit_identical_on_1_to_4_real_workers() {
+    // spinner: a loop chain, capsules, circles, squares and a rounded paddle, sleeping on; 90
+    // steps (1.5 s), in which the bodies fall into the ring's bottom and the paddle, turning
+    // from the start, sweeps through them. many_pyramids stands on 20 segments: 60 steps.
+    let spinner = tumble_scene::builtin::build("spinner").expect("spinner");
+    let pyramids = tumble_scene::builtin::build("many_pyramids").expect("many_pyramids");
+    for (scene, steps) in [(&spinner, 90), (&pyramids, 60)] {
+        let (one, _) = run_workers_with(scene, steps, 1, false);
+        assert!(
+            one.contacts > 1000,
+            "{}: {} contacts",
+            scene.name,
+            one.contacts
+        );
+        for workers in 2..=4 {
+            let (other, _) = run_workers_with(scene, steps, workers, false);
+            assert_same(&one, &other);
+        }
+    }
+}
+
+#[test]
 fn the_thread_count_changes_mid_run_on_a_parallel_scene() {
     // large_pyramid solves on several workers every step (its 14,950 touching contacts are
     // far above the 256 below which one worker solves alone); the worker count changes every

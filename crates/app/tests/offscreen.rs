@@ -274,7 +274,7 @@ fn debug_lines_are_one_more_draw_call_and_buffers_grow_geometrically() {
     assert!(lines > 1000);
     // Buffers hold what was drawn, in power-of-two sizes.
     let caps = renderer.buffer_capacities();
-    assert!(caps[1] >= u64::from(polygons) * 116 && caps[1].is_power_of_two());
+    assert!(caps[1] >= u64::from(polygons) * 120 && caps[1].is_power_of_two());
     assert!(caps[2] >= u64::from(lines) * 24 && caps[2].is_power_of_two());
     // Something was drawn besides the background.
     let background = to_u8(palette::BACKGROUND);
@@ -345,4 +345,100 @@ fn every_part_of_a_compound_body_is_drawn_and_a_sleeping_one_faded() {
     // The sleeping body is not drawn in its awake colour.
     let faded = px(Vec2::new(3.7, -0.3));
     assert!(!close(faded, to_u8(dynamic_color(1)), 8), "{faded:?}");
+}
+
+#[test]
+fn capsules_and_rounded_boxes_are_round_and_segments_are_lines() {
+    use tumble_physics::PartDef;
+    let gpu = gpu();
+    // A capsule (core ±1 m, radius 0.5) left, a box of half size 0.6 rounded by 0.3 right,
+    // both asleep-free and still (no gravity); under them a static segment and a chain.
+    let mut scene = SceneDef::new("rounded");
+    scene.gravity = [0.0, 0.0];
+    scene.push(
+        BodyDef::new(ShapeDef::Capsule {
+            center1: [-1.0, 0.0],
+            center2: [1.0, 0.0],
+            radius: 0.5,
+        })
+        .at(-2.5, 1.0),
+    );
+    scene.push(
+        BodyDef::new(ShapeDef::Box {
+            half_extents: [0.6, 0.6],
+            radius: 0.3,
+        })
+        .at(2.5, 1.0),
+    );
+    scene.push(
+        BodyDef::compound(vec![
+            PartDef::new(ShapeDef::Segment {
+                point1: [-5.0, -1.0],
+                point2: [5.0, -1.0],
+            }),
+            PartDef::new(ShapeDef::Chain {
+                points: vec![[5.0, -2.0], [2.0, -2.0], [-2.0, -2.5], [-5.0, -2.0]],
+                looped: false,
+            }),
+        ])
+        .kind(BodyKind::Static),
+    );
+    let sim = Sim::new(Arc::new(scene), 1).unwrap();
+    let cam = Camera::new(Vec2::ZERO, 25.0, Vec2::new(WIDTH as f32, HEIGHT as f32));
+    let (image, renderer) = render(&gpu, &sim, &cam, &DebugDraw::default());
+    // The capsule and the rounded box through the polygon pipeline; the segment and the
+    // chain's one segment as lines: two draw calls.
+    let [circles, polygons, lines] = renderer.counts();
+    assert_eq!((circles, polygons, lines), (0, 2, 4));
+    assert_eq!(renderer.draw_calls(), 2);
+    let px = |p: Vec2| {
+        let s = cam.world_to_screen(p);
+        image.get(s.x.floor() as u32, s.y.floor() as u32)
+    };
+    let background = to_u8(palette::BACKGROUND);
+    for (index, centre, inside, outside) in [
+        // The capsule: 1.35 m out along its core is inside its end cap (0.15 m, 4 px, from
+        // the edge); near its bounding box's corner, (1.4, 0.44) out, is 0.6 m from the cap's
+        // centre (2.4 px beyond the 0.5 m radius): bare, where a box would be drawn.
+        (
+            0,
+            Vec2::new(-2.5, 1.0),
+            [Vec2::new(1.35, 0.0), Vec2::new(0.0, 0.38)],
+            [Vec2::new(1.4, 0.44), Vec2::new(-1.4, -0.44)],
+        ),
+        // The rounded box: 0.78 m out along an axis is inside (the edge at 0.6 + 0.3 is 3 px
+        // away); (0.87, 0.87) out is 0.38 m from the core's corner (2 px beyond the
+        // rounding), inside the bounding box: bare.
+        (
+            1,
+            Vec2::new(2.5, 1.0),
+            [Vec2::new(0.78, 0.0), Vec2::new(0.0, -0.78)],
+            [Vec2::new(0.87, 0.87), Vec2::new(-0.87, -0.87)],
+        ),
+    ] {
+        let fill = to_u8(dynamic_color(index));
+        for d in inside {
+            let got = px(centre + d);
+            assert!(
+                close(got, fill, 12),
+                "body {index} at {d}: {got:?}, want {fill:?}"
+            );
+        }
+        for d in outside {
+            let got = px(centre + d);
+            assert!(
+                close(got, background, 12),
+                "body {index} at {d} should be bare: {got:?}"
+            );
+        }
+    }
+    // The segment's line crosses x = 0 at y = -1.
+    let s = cam.world_to_screen(Vec2::new(0.0, -1.0));
+    let column: Vec<[u8; 4]> = (s.y as u32 - 2..=s.y as u32 + 2)
+        .map(|y| image.get(s.x as u32, y))
+        .collect();
+    assert!(
+        column.iter().any(|p| !close(*p, background, 12)),
+        "no line at the segment: {column:?}"
+    );
 }

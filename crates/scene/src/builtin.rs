@@ -37,6 +37,7 @@ const NAMES: &[&str] = &[
     "tumbler",
     "compounds",
     "junkyard",
+    "spinner",
 ];
 
 /// All built-in scene names, in menu order.
@@ -68,11 +69,12 @@ pub fn build(name: &str) -> Option<SceneDef> {
         "tumbler" => tumbler(),
         "compounds" => compounds(),
         "junkyard" => junkyard(),
+        "spinner" => spinner(),
         _ => return None,
     };
     // Box2D's benchmark turns sleeping off in its pyramids and keeps it on in smash,
-    // compounds and junkyard. The hard cases measure a scene's motion to its end, which
-    // sleeping would stop: every built-in but those three runs awake, as it always did.
+    // compounds, junkyard and spinner. The hard cases measure a scene's motion to its end, which
+    // sleeping would stop: every built-in but those four runs awake, as it always did.
     if !SLEEPING.contains(&name) {
         scene.sleep = false;
     }
@@ -80,7 +82,7 @@ pub fn build(name: &str) -> Option<SceneDef> {
 }
 
 /// The built-ins that sleep (as Box2D's benchmark builds them).
-const SLEEPING: &[&str] = &["smash", "compounds", "junkyard"];
+const SLEEPING: &[&str] = &["smash", "compounds", "junkyard", "spinner"];
 
 /// What a built-in does between steps (Box2D's benchmark `Step*` functions): the steps taken
 /// so far, and the world to change. Scenes without one return `None` from [`script`].
@@ -163,8 +165,13 @@ pub fn describe(name: &str) -> Option<&'static str> {
              Tests the solver at the edge: a very deep, very wide stack must stand."
         }
         "many_pyramids" => {
-            "Benchmark: 400 small 10-row pyramids on 20 shelves, 22000 boxes (Box2D's many_pyramids). \
+            "Benchmark: 400 small 10-row pyramids on 20 ground segments, 22000 boxes (Box2D's many_pyramids). \
              Tests throughput and parallel scaling over many independent islands."
+        }
+        "spinner" => {
+            "Benchmark: 6076 capsules, circles and squares in a 40 m ring (a loop chain), stirred by a 40 m rounded paddle at 5 rad/s (Box2D's spinner). \
+             Box2D turns the paddle by a revolute motor; until tumble has joints it is kinematic at the motor's speed. \
+             Tests chains, capsules and rounded boxes under a dense, churning load."
         }
         "smash" => {
             "Benchmark: a heavy 8 m block at 40 m/s smashes into a 120 x 80 wall of 9600 small boxes that start asleep, no gravity (Box2D's smash). \
@@ -780,7 +787,8 @@ fn pyramid_200() -> SceneDef {
 }
 
 /// Box2D `CreateManyPyramids`: a 20 x 20 grid of 10-row pyramids of half size 0.5; each row
-/// of pyramids stands on a 220 m ground segment, the segments 11 m apart; 200 steps.
+/// of pyramids stands on a 220 m ground segment, the 20 segments 11 m apart and all parts of
+/// one static body; 200 steps, sleep off.
 fn many_pyramids() -> SceneDef {
     let mut scene = SceneDef::new("many_pyramids");
     scene.steps = 200;
@@ -789,10 +797,16 @@ fn many_pyramids() -> SceneDef {
     let (rows, columns) = (20, 20);
     let ground_dy = 2.0 * extent * (base_count as f32 + 1.0);
     let ground_width = 2.0 * extent * columns as f32 * (base_count as f32 + 1.0);
-    for i in 0..rows {
-        let y = i as f32 * ground_dy;
-        scene.push(segment([-0.5 * ground_width, y], [0.5 * ground_width, y]));
-    }
+    let ground: Vec<PartDef> = (0..rows)
+        .map(|i| {
+            let y = i as f32 * ground_dy;
+            PartDef::new(ShapeDef::Segment {
+                point1: [-0.5 * ground_width, y],
+                point2: [0.5 * ground_width, y],
+            })
+        })
+        .collect();
+    scene.push(BodyDef::compound(ground).kind(BodyKind::Static));
     let base_width = 2.0 * extent * base_count as f32;
     for row in 0..rows {
         let base_y = row as f32 * ground_dy;
@@ -863,20 +877,16 @@ fn container(half: f32, floor: usize, wall: usize) -> Vec<PartDef> {
 }
 
 /// Box2D `CreateCompounds` (its samples' barrel benchmark, compound branch): a static
-/// container of 281 boxes (floor of 81, walls of 100) and a segment 80 m below (a thin box
-/// here), and 20 x 150 dynamic bodies of two triangles each (friction 0.5), alternating
+/// container of 281 boxes (floor of 81, walls of 100) and a segment 80 m below, and 20 x 150 dynamic bodies of two triangles each (friction 0.5), alternating
 /// 0.25 m left and right; 1000 steps, sleeping on.
 fn compounds() -> SceneDef {
     let mut scene = SceneDef::new("compounds");
     scene.steps = 1000;
     let mut ground = container(40.0, 81, 100);
-    // Box2D's segment from (-800, -80) to (800, -80), as a thin box whose top face is it.
-    ground.push(offset_box(
-        800.0,
-        SEGMENT_HALF_THICKNESS,
-        0.0,
-        -80.0 - SEGMENT_HALF_THICKNESS,
-    ));
+    ground.push(PartDef::new(ShapeDef::Segment {
+        point1: [-800.0, -80.0],
+        point2: [800.0, -80.0],
+    }));
     scene.push(BodyDef::compound(ground).kind(BodyKind::Static));
     let tri = |points: [[f32; 2]; 3]| {
         PartDef::new(ShapeDef::Polygon {
@@ -990,6 +1000,70 @@ fn tumbler() -> SceneDef {
     scene
 }
 
+/// Box2D `CreateSpinner`: a loop chain of 360 points, a circle of radius 40 centred at
+/// (0, 32), walked clockwise so it keeps things inside (friction 0.1); a paddle, a box of half
+/// extents 0.4 x 20 rounded by 0.2 (friction 0), spinning at 5 rad/s about (0, 12); and 6076
+/// bodies in rows from (-23, 2), 0.5 m apart, in turn a capsule (core ±0.25, radius 0.25), a
+/// circle of radius 0.35 and a square of half size 0.35 (density 0.25, friction 0.1,
+/// restitution 0.1); 500 steps. Box2D turns the paddle with a revolute motor of unbounded
+/// torque; until tumble has joints it is kinematic at the motor's speed.
+fn spinner() -> SceneDef {
+    let mut scene = SceneDef::new("spinner");
+    scene.steps = 500;
+    const POINTS: usize = 360;
+    // Box2D rotates one point by -2π/360 at a time, in f32.
+    let step = -2.0 * std::f64::consts::PI / POINTS as f64;
+    let (c, s) = (step.cos() as f32, step.sin() as f32);
+    let mut p = [40.0f32, 0.0];
+    let mut points = Vec::with_capacity(POINTS);
+    for _ in 0..POINTS {
+        points.push([p[0], p[1] + 32.0]);
+        p = [c * p[0] - s * p[1], s * p[0] + c * p[1]];
+    }
+    let mut ring = PartDef::new(ShapeDef::Chain {
+        points,
+        looped: true,
+    });
+    ring.friction = Some(0.1);
+    scene.push(BodyDef::compound(vec![ring]).kind(BodyKind::Static));
+    let mut paddle = BodyDef::new(ShapeDef::Box {
+        half_extents: [0.4, 20.0],
+        radius: 0.2,
+    })
+    .kind(BodyKind::Kinematic)
+    .at(0.0, 12.0)
+    .friction(0.0);
+    paddle.angular_velocity = 5.0;
+    paddle.enable_sleep = false;
+    scene.push(paddle);
+    let capsule = ShapeDef::Capsule {
+        center1: [-0.25, 0.0],
+        center2: [0.25, 0.0],
+        radius: 0.25,
+    };
+    let (mut x, mut y) = (-23.0f32, 2.0f32);
+    for i in 0..2 * 3038 {
+        let shape = match i % 3 {
+            0 => capsule.clone(),
+            1 => circle(0.35),
+            _ => rect(0.35, 0.35),
+        };
+        scene.push(
+            BodyDef::new(shape)
+                .at(x, y)
+                .density(0.25)
+                .friction(0.1)
+                .restitution(0.1),
+        );
+        x += 0.5;
+        if x >= 23.0 {
+            x = -23.0;
+            y += 0.5;
+        }
+    }
+    scene
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1001,7 +1075,7 @@ mod tests {
 
     #[test]
     fn every_name_builds_describes_and_validates() {
-        assert_eq!(names().len(), 21);
+        assert_eq!(names().len(), 22);
         for &name in names() {
             let scene = build(name).unwrap_or_else(|| panic!("{name} does not build"));
             assert_eq!(scene.name, name);
@@ -1036,7 +1110,8 @@ mod tests {
         let expect = [
             ("large_pyramid", 5050, 1),
             ("pyramid", 210, 1),
-            ("many_pyramids", 22_000, 20),
+            ("many_pyramids", 22_000, 1),
+            ("spinner", 6076, 1),
             ("smash", 9601, 0),
             ("tumbler", 2025, 4),
             ("vertical_stack", 15, 2),
@@ -1058,7 +1133,18 @@ mod tests {
             let scene = build(name).unwrap();
             assert_eq!(count(&scene, BodyKind::Dynamic), dynamic, "{name} dynamic");
             assert_eq!(count(&scene, BodyKind::Static), fixed, "{name} static");
-            assert_eq!(scene.bodies.len(), dynamic + fixed, "{name} total");
+            // spinner's paddle is kinematic until tumble has joints.
+            let kinematic = usize::from(name == "spinner");
+            assert_eq!(
+                count(&scene, BodyKind::Kinematic),
+                kinematic,
+                "{name} kinematic"
+            );
+            assert_eq!(
+                scene.bodies.len(),
+                dynamic + fixed + kinematic,
+                "{name} total"
+            );
         }
     }
 
@@ -1066,11 +1152,7 @@ mod tests {
     fn polygons_are_convex_ccw_and_small() {
         for &name in names() {
             for (index, body) in build(name).unwrap().bodies.iter().enumerate() {
-                let Some(ShapeDef::Polygon {
-                    vertices,
-                    radius: 0.0,
-                }) = &body.shape
-                else {
+                let Some(ShapeDef::Polygon { vertices, .. }) = &body.shape else {
                     continue;
                 };
                 let n = vertices.len();
@@ -1110,11 +1192,7 @@ mod tests {
         // The keystone's lower corners are the top corners of the highest blocks of each side.
         let scene = build("arch").unwrap();
         let world = |body: &BodyDef| -> Vec<[f32; 2]> {
-            let Some(ShapeDef::Polygon {
-                vertices,
-                radius: 0.0,
-            }) = &body.shape
-            else {
+            let Some(ShapeDef::Polygon { vertices, .. }) = &body.shape else {
                 panic!("arch block is not a polygon")
             };
             vertices

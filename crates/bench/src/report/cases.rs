@@ -805,11 +805,7 @@ fn restitution_drop() -> Result<Case> {
     let steps = 180;
     let h = f64::from(builtin::DROP_HEIGHT);
     let ground = &scene.bodies[0];
-    let Some(ShapeDef::Box {
-        half_extents,
-        radius: 0.0,
-    }) = ground.shape
-    else {
+    let Some(ShapeDef::Box { half_extents, .. }) = ground.shape else {
         anyhow::bail!("restitution_drop: the ground is not a box");
     };
     let ground_top = f64::from(ground.position[1]) + f64::from(half_extents[1]);
@@ -998,11 +994,7 @@ fn elastic_box(with_gravity: bool) -> Result<Case> {
     let steps = 3600;
     let floor = {
         let b = &scene.bodies[0];
-        let Some(ShapeDef::Box {
-            half_extents,
-            radius: 0.0,
-        }) = b.shape
-        else {
+        let Some(ShapeDef::Box { half_extents, .. }) = b.shape else {
             anyhow::bail!("elastic_box: the floor is not a box");
         };
         f64::from(b.position[1]) + f64::from(half_extents[1])

@@ -3,9 +3,11 @@
 //! Shape A is the one later in Box2D's order of shape types (circle, capsule, polygon,
 //! segment, chain segment): circle–circle, capsule–circle, capsule–capsule, polygon–circle,
 //! polygon–capsule, polygon–polygon, segment–{circle, capsule, polygon} and chain
-//! segment–{circle, capsule, polygon}. Segments never meet segments. Capsules and segments go
-//! through the polygon routines as two-vertex polygons with a radius ([`Polygon::capsule`]);
-//! rounded polygons carry their radius through them.
+//! segment–{circle, capsule, polygon}. Segments never meet segments. Two capsules (or a
+//! segment and a capsule) meet by the closest points of their cores, clipped to two points
+//! where the cores run side by side; against a polygon, capsules and segments go through the
+//! polygon routines as two-vertex polygons with a radius ([`Polygon::capsule`]); rounded
+//! polygons carry their radius through them.
 //!
 //! The algorithms follow Box2D v3 (`manifold.c`): points lie midway between the two
 //! surfaces with a signed separation, the normal points from A to B, and every point carries
@@ -89,18 +91,26 @@ pub fn collide(
         (S::Capsule(a), S::Circle(b)) => {
             collide_capsule_circle(a.center1, a.center2, a.radius, xf_a, b, xf_b, d)
         }
-        (S::Capsule(a), S::Capsule(b)) => {
-            collide_polygons(&capsule_polygon(a), xf_a, &capsule_polygon(b), xf_b, d)
-        }
+        (S::Capsule(a), S::Capsule(b)) => collide_capsules(
+            (a.center1, a.center2, a.radius),
+            xf_a,
+            (b.center1, b.center2, b.radius),
+            xf_b,
+            d,
+        ),
         (S::Polygon(a), S::Circle(b)) => collide_polygon_circle(a, xf_a, b, xf_b, d),
         (S::Polygon(a), S::Capsule(b)) => collide_polygons(a, xf_a, &capsule_polygon(b), xf_b, d),
         (S::Polygon(a), S::Polygon(b)) => collide_polygons(a, xf_a, b, xf_b, d),
         (S::Segment(a), S::Circle(b)) => {
             collide_capsule_circle(a.point1, a.point2, 0.0, xf_a, b, xf_b, d)
         }
-        (S::Segment(a), S::Capsule(b)) => {
-            collide_polygons(&segment_polygon(a), xf_a, &capsule_polygon(b), xf_b, d)
-        }
+        (S::Segment(a), S::Capsule(b)) => collide_capsules(
+            (a.point1, a.point2, 0.0),
+            xf_a,
+            (b.center1, b.center2, b.radius),
+            xf_b,
+            d,
+        ),
         (S::Segment(a), S::Polygon(b)) => collide_polygons(&segment_polygon(a), xf_a, b, xf_b, d),
         (S::ChainSegment(a), S::Circle(b)) => collide_chain_segment_circle(a, xf_a, b, xf_b, d),
         (S::ChainSegment(a), S::Capsule(b)) => {
@@ -226,6 +236,122 @@ pub fn collide_capsule_circle(
     let ca = closest + normal * radius_a;
     let cb = c - normal * b.radius;
     single(xf_a, xf_b, normal, (ca + cb) * 0.5, sep, 0)
+}
+
+/// Capsule A against capsule B, each a core segment `(p, q)` and a radius (a segment is a
+/// capsule of radius 0): the closest points of the cores (Ericson, Real-Time Collision
+/// Detection 5.1.9), and where each core projects onto the other, the incident core clipped
+/// to the reference core's ends for two points, unless they would be much farther apart than
+/// the closest points (Box2D v3's `b2CollideCapsules`). Collinear cores meet end to end along
+/// their common line, which the polygon routine's side normals cannot express.
+pub fn collide_capsules(
+    (a1, a2, radius_a): (Vec2, Vec2, f32),
+    xf_a: Transform,
+    (b1, b2, radius_b): (Vec2, Vec2, f32),
+    xf_b: Transform,
+    max_distance: f32,
+) -> Manifold {
+    // In A's frame, shifted to A's first centre for round-off.
+    let origin = a1;
+    let xf = xf_a.inv_mul(xf_b);
+    let p1 = Vec2::ZERO;
+    let q1 = a2 - origin;
+    let p2 = xf.apply(b1) - origin;
+    let q2 = xf.apply(b2) - origin;
+    let sd = segment_distance(p1, q1, p2, q2);
+    let radius = radius_a + radius_b;
+    let reach = radius + max_distance;
+    if sd.distance_squared > reach * reach {
+        return Manifold::default();
+    }
+    let distance = sd.distance_squared.sqrt();
+    let (d1, d2) = (q1 - p1, q2 - p2);
+    let (u1, length1) = normalize_and_length(d1);
+    let (u2, length2) = normalize_and_length(d2);
+    // Where each core's ends project onto the other core's line.
+    let (fp2, fq2) = (dot(p2 - p1, u1), dot(q2 - p1, u1));
+    let outside_a = (fp2 <= 0.0 && fq2 <= 0.0) || (fp2 >= length1 && fq2 >= length1);
+    let (fp1, fq1) = (dot(p1 - p2, u2), dot(q1 - p2, u2));
+    let outside_b = (fp1 <= 0.0 && fq1 <= 0.0) || (fp1 >= length2 && fq1 >= length2);
+    let mut points: [(Vec2, f32, u16); 2] = [(Vec2::ZERO, 0.0, 0); 2];
+    let mut count = 0;
+    let mut normal = Vec2::ZERO;
+    if !outside_a && !outside_b {
+        // Side by side: each core's side facing the other, and how far the other core lies
+        // beyond it (the separating axis of the two lines).
+        let side = |u: Vec2, base: Vec2, a: Vec2, b: Vec2| {
+            let n = Vec2::new(-u.y, u.x);
+            let (s1, s2) = (dot(a - base, n), dot(b - base, n));
+            let (plus, minus) = (s1.min(s2), (-s1).min(-s2));
+            if plus > minus { (n, plus) } else { (-n, minus) }
+        };
+        let (normal_a, separation_a) = side(u1, p1, p2, q2);
+        let (normal_b, separation_b) = side(u2, p2, p1, q1);
+        // Biased towards A's side, so the reference does not flip from step to step.
+        let clip = |from: (Vec2, Vec2), f: (f32, f32), length: f32| {
+            let ((mut cp, mut cq), (fp, fq)) = (from, f);
+            let (p, q) = from;
+            if fp < 0.0 && fq > 0.0 {
+                cp = p.lerp(q, (0.0 - fp) / (fq - fp));
+            } else if fq < 0.0 && fp > 0.0 {
+                cq = q.lerp(p, (0.0 - fq) / (fp - fq));
+            }
+            if fp > length && fq < length {
+                cp = p.lerp(q, (fp - length) / (fp - fq));
+            } else if fq > length && fp < length {
+                cq = q.lerp(p, (fq - length) / (fq - fp));
+            }
+            (cp, cq)
+        };
+        if separation_a + 0.1 * LINEAR_SLOP >= separation_b {
+            let (cp, cq) = clip((p2, q2), (fp2, fq2), length1);
+            let (sp, sq) = (dot(cp - p1, normal_a), dot(cq - p1, normal_a));
+            if sp <= distance + LINEAR_SLOP || sq <= distance + LINEAR_SLOP {
+                normal = normal_a;
+                let mid = |c: Vec2, s: f32| c + normal_a * (0.5 * (radius_a - radius_b - s));
+                points = [
+                    (mid(cp, sp), sp - radius, make_id(0, 0)),
+                    (mid(cq, sq), sq - radius, make_id(0, 1)),
+                ];
+                count = 2;
+            }
+        } else {
+            let (cp, cq) = clip((p1, q1), (fp1, fq1), length2);
+            let (sp, sq) = (dot(cp - p2, normal_b), dot(cq - p2, normal_b));
+            if sp <= distance + LINEAR_SLOP || sq <= distance + LINEAR_SLOP {
+                // B is the reference; the normal still runs from A to B.
+                normal = -normal_b;
+                let mid = |c: Vec2, s: f32| c + normal_b * (0.5 * (radius_b - radius_a - s));
+                points = [
+                    (mid(cp, sp), sp - radius, make_id(0, 0)),
+                    (mid(cq, sq), sq - radius, make_id(1, 0)),
+                ];
+                count = 2;
+            }
+        }
+    }
+    if count == 0 {
+        // One point between the closest points of the cores.
+        let c1 = p1 + d1 * sd.fraction1;
+        let c2 = p2 + d2 * sd.fraction2;
+        normal = if sd.distance_squared > f32::EPSILON * f32::EPSILON {
+            (c2 - c1) * (1.0 / distance)
+        } else {
+            Vec2::new(-u1.y, u1.x)
+        };
+        let ca = c1 + normal * radius_a;
+        let cb = c2 - normal * radius_b;
+        let (i1, i2) = (
+            usize::from(sd.fraction1 != 0.0),
+            usize::from(sd.fraction2 != 0.0),
+        );
+        points[0] = ((ca + cb) * 0.5, distance - radius, make_id(i1, i2));
+        count = 1;
+    }
+    for p in &mut points[..count] {
+        p.0 += origin;
+    }
+    local_manifold(xf_a, xf_b, normal, &points[..count])
 }
 
 /// Polygon (A, maybe rounded) against circle (B): face contact or one of the two vertex
@@ -1257,6 +1383,21 @@ mod tests {
         );
         // Distinct feature ids, so each point keeps its impulse.
         assert_ne!(m.points[0].id, m.points[1].id);
+    }
+
+    #[test]
+    fn collinear_capsules_meet_end_to_end() {
+        // Cores (-1,0)-(1,0) and, 2.45 to the right, (1.45,0)-(3.45,0): the closest points are
+        // the facing ends, 0.45 apart; one point, normal +x, separation 0.45 - 0.5, midway
+        // between the end caps' surfaces x = 1.25 and x = 1.2.
+        let cap = capsule(-1.0, 0.0, 1.0, 0.0, 0.25);
+        let m = collide(&cap, at(0.0, 0.0), &cap, at(2.45, 0.0), MAX);
+        assert_eq!(m.count, 1);
+        assert!((m.normal - Vec2::X).length() < 1e-6, "{:?}", m.normal);
+        assert!((m.points[0].separation + 0.05).abs() < 1e-6);
+        assert!((m.points[0].anchor_a - Vec2::new(1.225, 0.0)).length() < 1e-6);
+        // A's end 1, B's end 0.
+        assert_eq!(m.points[0].id, make_id(1, 0));
     }
 
     #[test]
