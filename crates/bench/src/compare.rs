@@ -10,9 +10,10 @@ use clap::Args;
 const WARMUP_STEPS: u32 = 10;
 
 /// Default scenes: Box2D's own benchmark scenes that tumble builds the same way (smash,
-/// compounds and junkyard sleeping, as Box2D's benchmark runs them; junkyard's pusher driven
-/// in every engine).
-const DEFAULT_SCENES: &str = "large_pyramid,many_pyramids,smash,compounds,junkyard";
+/// compounds, junkyard and spinner sleeping, as Box2D's benchmark runs them; junkyard's pusher
+/// driven in every engine; spinner's paddle kinematic in every engine, where Box2D's own
+/// benchmark turns it with a revolute motor).
+const DEFAULT_SCENES: &str = "large_pyramid,many_pyramids,smash,compounds,junkyard,spinner";
 
 /// Most threads the peers take (Box2D's worker count is 1 to 32).
 pub(crate) const MAX_PEER_THREADS: u32 = 32;

@@ -3,10 +3,11 @@
 //! Mapping: each tumble body is one Box2D body: its kind, frame (position and angle), velocity
 //! (tumble's is the centre of mass's, Box2D's definition takes the origin's: converted),
 //! damping, `gravity_scale`, `fixed_rotation` (`b2MotionLocks` on rotation), and one Box2D shape
-//! per part ([`part_shape`]): boxes are `b2MakeBox`, or `b2MakeOffsetBox` at a part's offset
-//! and angle; polygons the hull of their vertices in the body's frame (a body of one shape:
-//! tumble's centroid-recentred vertices), radius 0; circles at their centre. Each shape has its
-//! part's density, friction and restitution (Box2D mixes them as tumble does: friction
+//! per part ([`part_shape`]): boxes are `b2MakeBox`, or `b2MakeOffsetRoundedBox` at a part's
+//! offset and angle or with a radius; polygons the hull of their vertices in the body's frame
+//! (a body of one shape: tumble's centroid-recentred vertices), with their rounding radius;
+//! circles at their centre; capsules, segments and chains (`b2CreateChain`, its material the
+//! part's) as given. Each shape has its part's density, friction and restitution (Box2D mixes them as tumble does: friction
 //! `sqrt(a * b)`, restitution `max(a, b)`), its filter as a `b2Filter` (`categoryBits`,
 //! `maskBits`, `groupIndex`: Box2D's rule is tumble's; a group outside `i32` is refused) and
 //! `isSensor` for a sensor part (with sensor events off: tumble's sensor today touches

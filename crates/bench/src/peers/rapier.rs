@@ -6,7 +6,11 @@
 //! ([`part_shape`]) placed in the body's frame: boxes are cuboids at the part's offset and
 //! angle, polygons convex polylines of their vertices in the body's frame (a body of one
 //! shape: tumble's centroid-recentred vertices; counter-clockwise, as the scene requires),
-//! circles balls at their centre. Rapier computes the mass, centre of mass and inertia from
+//! circles balls at their centre; rounded boxes and polygons Rapier's round cuboids and round
+//! convex polylines (the same core grown by the radius), capsules capsules between the same
+//! centres, segments segments, chains oriented polylines (one-sided, pushing to the right of
+//! each segment, as Box2D's chains; an open chain's two end points, Box2D's ghosts, left out).
+//! Rapier computes the mass, centre of mass and inertia from
 //! the colliders' densities as tumble does. Friction: each collider gets its part's coefficient
 //! and `CoefficientCombineRule::GeometricMean`, which is exactly tumble's `sqrt(a * b)` for
 //! every pair (equal coefficients or not). Restitution: `CoefficientCombineRule::Max`, tumble's
@@ -248,18 +252,21 @@ impl Rapier {
                         ColliderBuilder::segment(Vector::from(point1), Vector::from(point2))
                     }
                     PartShape::Chain { points, looped } => {
-                        // Rapier's polylines are two-sided and have no ghost vertices: an
-                        // open chain's end points, which only shape Box2D's and tumble's end
-                        // segments, are left out.
+                        // Rapier's oriented polyline: one-sided, pushing towards the right of
+                        // each segment, as a chain does, with pseudo-normals at its vertices
+                        // in place of ghost vertices. An open chain's end points, which only
+                        // shape Box2D's and tumble's end segments, are left out; a loop closes
+                        // by its indices.
                         let mut vertices: Vec<Vector> =
                             points.into_iter().map(Vector::from).collect();
-                        if looped {
-                            vertices.push(vertices[0]);
-                        } else {
+                        if !looped {
                             vertices.pop();
                             vertices.remove(0);
                         }
-                        ColliderBuilder::polyline(vertices, None)
+                        let n = vertices.len() as u32;
+                        let edges = if looped { n } else { n - 1 };
+                        let indices = (0..edges).map(|i| [i, (i + 1) % n]).collect();
+                        ColliderBuilder::oriented_polyline(vertices, Some(indices))
                     }
                 };
                 let f = part.filter;

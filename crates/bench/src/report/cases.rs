@@ -120,6 +120,8 @@ pub fn all(quick: bool) -> Result<Vec<Case>> {
     cases.push(elastic_box(true)?);
     cases.push(overlap_recovery()?);
     cases.push(far_from_origin()?);
+    cases.push(chain_slide());
+    cases.push(capsules());
     if quick {
         for c in &mut cases {
             c.steps = c.steps.min(10);
@@ -933,6 +935,189 @@ fn projectile() -> Case {
                 start: [0.0, 0.0],
                 g,
                 t,
+            })
+        }),
+        scene,
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Chains and capsules
+
+/// Speed of the box sliding along the chain (m/s).
+const SLIDE_SPEED: f32 = 5.0;
+
+/// Watches body `index` every step for its largest departure from uniform level motion at
+/// `speed` along x.
+struct SlideProbe {
+    index: usize,
+    speed: f64,
+    speed_error: f64,
+    tilt: f64,
+    vertical: f64,
+}
+
+impl Probe for SlideProbe {
+    fn after_step(&mut self, sim: &mut dyn Peer, _step: u32) -> Result<()> {
+        let p = sim.pose(self.index)?;
+        let v = sim.velocity(self.index)?;
+        let worse = |now: f64, worst: f64| {
+            if now.is_finite() && worst.is_finite() {
+                worst.max(now)
+            } else {
+                f64::NAN
+            }
+        };
+        self.speed_error = worse((f64::from(v[0]) - self.speed).abs(), self.speed_error);
+        self.tilt = worse(f64::from(p[2]).abs(), self.tilt);
+        self.vertical = worse(f64::from(v[1]).abs(), self.vertical);
+        Ok(())
+    }
+    fn finish(&mut self, _sim: &mut dyn Peer) -> Result<Vec<f64>> {
+        Ok(vec![self.speed_error, self.tilt, self.vertical])
+    }
+}
+
+/// A frictionless unit box sliding at 5 m/s along a flat chain of 1000 segments 0.1 m long.
+fn chain_slide() -> Case {
+    let mut scene = SceneDef::new("chain_slide");
+    // Right to left, so the chain pushes up; one ghost point beyond each end.
+    let mut points = vec![[50.1f32, 0.0]];
+    points.extend((0..=1000).map(|i| [50.0 - 0.1 * i as f32, 0.0]));
+    points.push([-50.1, 0.0]);
+    let mut ground = BodyDef::compound(vec![tumble_physics::PartDef::new(ShapeDef::Chain {
+        points,
+        looped: false,
+    })])
+    .kind(BodyKind::Static);
+    ground.friction = 0.0;
+    scene.push(ground);
+    let mut bx = BodyDef::new(ShapeDef::Box {
+        half_extents: [0.5, 0.5],
+        radius: 0.0,
+    })
+    .at(-40.0, 0.5)
+    .velocity(SLIDE_SPEED, 0.0);
+    bx.friction = 0.0;
+    scene.push(bx);
+    let steps = 300;
+    Case {
+        key: "chain_slide",
+        title: "A box sliding along a chain".into(),
+        steps,
+        setup: format!(
+            "A frictionless unit box sliding at {SLIDE_SPEED} m/s along flat ground made of one              chain of 1000 segments 0.1 m long (Box2D's chain with ghost vertices; Rapier's              nearest, a polyline, two-sided). {steps} steps (5 s): 25 m, across 250 joints              between segments."
+        ),
+        definition: "Closed form: uniform, level motion at 5 m/s (no friction, a flat floor).                      Watched every step: **speed error**, the largest |vx − 5|; **tilt**, the                      largest |angle|; **vertical speed**, the largest |vy|. A joint the box                      catches on (a ghost collision) shows in all three."
+            .into(),
+        criterion: "speed error ≤ 0.05 m/s (1%) and tilt ≤ 0.01 rad: the joints are not felt.                     (Separate two-sided segments fail this in tumble: the box trips over the                     first joint, `tests/tests/shapes.rs`.)"
+            .into(),
+        metrics: vec![
+            MetricDef::new("speed error (m/s)", "speed_error_mps")
+                .bound(0.05)
+                .plot(),
+            MetricDef::new("tilt (rad)", "tilt_rad").bound(0.01).plot(),
+            MetricDef::new("vertical speed (m/s)", "vertical_speed_mps"),
+        ],
+        extras: Vec::new(),
+        probe: Box::new(|| {
+            Box::new(SlideProbe {
+                index: 1,
+                speed: f64::from(SLIDE_SPEED),
+                speed_error: 0.0,
+                tilt: 0.0,
+                vertical: 0.0,
+            })
+        }),
+        scene,
+    }
+}
+
+/// Capsules: one resting on the ground, two meeting head on.
+struct CapsuleProbe {
+    radius: f64,
+    /// (index, velocity it should leave with) of the two colliding capsules.
+    exchange: [(usize, f64); 2],
+    closing: f64,
+}
+
+impl Probe for CapsuleProbe {
+    fn after_step(&mut self, _sim: &mut dyn Peer, _step: u32) -> Result<()> {
+        Ok(())
+    }
+    fn finish(&mut self, sim: &mut dyn Peer) -> Result<Vec<f64>> {
+        let rest = f64::from(sim.pose(1)?[1]) - self.radius;
+        let mut error = 0.0f64;
+        let mut out = Vec::new();
+        for (index, want) in self.exchange {
+            let v = f64::from(sim.velocity(index)?[0]);
+            error = error.max((v - want).abs());
+            out.push(v);
+        }
+        Ok(vec![rest, error / self.closing, out[0], out[1]])
+    }
+}
+
+/// A capsule's rest height and a head-on elastic collision of two capsules.
+fn capsules() -> Case {
+    let mut scene = SceneDef::new("capsules");
+    let mut ground = BodyDef::new(ShapeDef::Box {
+        half_extents: [30.0, 0.5],
+        radius: 0.0,
+    })
+    .kind(BodyKind::Static)
+    .at(0.0, -0.5);
+    ground.friction = 0.0;
+    scene.push(ground);
+    let radius = 0.25f32;
+    let capsule = ShapeDef::Capsule {
+        center1: [-0.5, 0.0],
+        center2: [0.5, 0.0],
+        radius,
+    };
+    let body = |x: f32, vx: f32| {
+        let mut b = BodyDef::new(capsule.clone())
+            .at(x, radius)
+            .velocity(vx, 0.0)
+            .restitution(1.0);
+        b.friction = 0.0;
+        b
+    };
+    // At rest, lying on the ground, away from the others.
+    let mut resting = body(-20.0, 0.0);
+    resting.restitution = 0.0;
+    scene.push(resting);
+    let (v1, v2) = (3.0f32, -1.0f32);
+    scene.push(body(-2.0, v1));
+    scene.push(body(2.0, v2));
+    let steps = 120;
+    Case {
+        key: "capsules",
+        title: "Capsules: rest height and an elastic collision".into(),
+        steps,
+        setup: format!(
+            "Frictionless capsules (core 1 m, radius {radius} m) lying on a static box: one at              rest; two meeting end to end, at {v1} and {v2} m/s along their common axis, with              restitution 1. {steps} steps (2 s); they meet after 0.6 s."
+        ),
+        definition: "**rest height error**: the resting capsule's centre height less its radius                      (closed form 0; the Soft Step lets a resting contact sink by up to the                      linear slop, 5 mm, before it pushes back). **exchange error**: equal masses                      in a 1-D elastic collision swap velocities (momentum and energy                      conservation); the largest |v − v*| of the two over their closing speed."
+            .into(),
+        criterion: "|rest height error| ≤ 6 mm (the slop and a millimetre) and exchange error ≤                     2%."
+            .into(),
+        metrics: vec![
+            MetricDef::new("rest height error (m)", "rest_height_error_m")
+                .bound(0.006)
+                .plot(),
+            MetricDef::new("exchange error", "exchange_error")
+                .bound(0.02)
+                .plot(),
+            MetricDef::new("v1 after (m/s)", "v1_after_mps"),
+            MetricDef::new("v2 after (m/s)", "v2_after_mps"),
+        ],
+        extras: Vec::new(),
+        probe: Box::new(move || {
+            Box::new(CapsuleProbe {
+                radius: f64::from(radius),
+                exchange: [(2, f64::from(v2)), (3, f64::from(v1))],
+                closing: f64::from(v1 - v2),
             })
         }),
         scene,
