@@ -16,8 +16,9 @@
 //!   inverse inertia; their rotation integration is skipped and the solver's angular terms
 //!   vanish for them.
 //! - **Damping**: the division by `1 + h·c` is skipped for bodies with zero damping.
-//! - **Narrow phase**: one routine per shape pair (circle–circle, polygon–circle,
-//!   polygon–polygon), chosen once when the contact is created.
+//! - **Narrow phase**: one routine per pair of shape types (circles, capsules, polygons
+//!   rounded or not, segments and chain segments), chosen by the contact's shapes; a scene of
+//!   circles and boxes runs only their routines.
 
 #![warn(missing_docs)]
 
@@ -47,7 +48,9 @@ pub use scene::{
     BodyDef, BodyKind, Filter, Limits, MAX_POLYGON_VERTICES, MAX_SOLVER_PASSES, PartDef,
     ResolvedPart, SceneDef, ShapeDef, SolverDef,
 };
-pub use shape::{Aabb, Circle, MassData, Polygon, Shape};
+pub use shape::{
+    Aabb, Capsule, ChainSegment, Circle, MassData, Polygon, Segment, Shape, chain_segments,
+};
 pub use world::{
     BodyView, ContactView, ShapeView, SpawnWorker, StepSettings, WideThresholds, World, WorldError,
     WorldSnapshot, default_thread_count, set_thread_source,

@@ -1401,6 +1401,32 @@ mod tests {
     }
 
     #[test]
+    fn capsule_on_a_segment_and_just_above_it() {
+        // A capsule (core ±1, radius 0.25) lying on a segment along x: its core 0.24 up is
+        // 0.01 deep at both ends; 0.26 up, two speculative points 0.01 apart from it.
+        let seg = Shape::Segment(Segment {
+            point1: Vec2::new(-5.0, 0.0),
+            point2: Vec2::new(5.0, 0.0),
+        });
+        let cap = capsule(-1.0, 0.0, 1.0, 0.0, 0.25);
+        for (height, separation) in [(0.24f32, -0.01f32), (0.26, 0.01)] {
+            let m = collide(&seg, at(0.0, 0.0), &cap, at(0.5, height), MAX);
+            assert_eq!(m.count, 2, "at {height}");
+            assert!((m.normal - Vec2::Y).length() < 1e-6);
+            for p in m.points() {
+                assert!((p.separation - separation).abs() < 1e-5, "{}", p.separation);
+                // Midway between the segment (y = 0) and the capsule's bottom.
+                assert!((p.anchor_a.y - 0.5 * separation).abs() < 1e-5);
+            }
+            let x = xs(&m);
+            assert!(
+                (x[0] + 0.5).abs() < 1e-5 && (x[1] - 1.5).abs() < 1e-5,
+                "{x:?}"
+            );
+        }
+    }
+
+    #[test]
     fn crossed_capsules_meet_at_one_point() {
         // B turned 90° and 0.45 above A's core: the cores' closest points are (0,0) and
         // (0,0.45), interior to both, so one point, normal +y, separation 0.45 - 0.5.
