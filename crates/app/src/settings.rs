@@ -22,7 +22,7 @@ pub const STORAGE_KEY: &str = "tumble.settings";
 pub struct DebugDraw {
     /// Contact points (red: touching, yellow: speculative).
     pub contacts: bool,
-    /// Contact normals at each point.
+    /// Contact normals at each point, and each chain segment's pushing side.
     pub normals: bool,
     /// Each body's fat bounding box.
     pub aabbs: bool,

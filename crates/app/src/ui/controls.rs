@@ -203,7 +203,8 @@ fn controls(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared, out: &m
     let d = &mut shared.settings.debug;
     ui.columns(2, |c| {
         c[0].checkbox(&mut d.contacts, "Contacts");
-        c[0].checkbox(&mut d.normals, "Normals");
+        c[0].checkbox(&mut d.normals, "Normals")
+            .on_hover_text("Contact normals, and the side each chain segment pushes towards.");
         c[0].checkbox(&mut d.aabbs, "AABBs");
         c[0].checkbox(&mut d.tree, "Tree");
         c[0].checkbox(&mut d.islands, "Islands")

@@ -1006,11 +1006,19 @@ fn chain_slide() -> Case {
         title: "A box sliding along a chain".into(),
         steps,
         setup: format!(
-            "A frictionless unit box sliding at {SLIDE_SPEED} m/s along flat ground made of one              chain of 1000 segments 0.1 m long (Box2D's chain with ghost vertices; Rapier's              nearest, a polyline, two-sided). {steps} steps (5 s): 25 m, across 250 joints              between segments."
+            "A frictionless unit box sliding at {SLIDE_SPEED} m/s along flat ground made of one \
+             chain of 1000 segments 0.1 m long (Box2D's chain with ghost vertices; Rapier's \
+             oriented polyline, one-sided with pseudo-normals at its vertices). {steps} steps (5 \
+             s): 25 m, across 250 joints between segments."
         ),
-        definition: "Closed form: uniform, level motion at 5 m/s (no friction, a flat floor).                      Watched every step: **speed error**, the largest |vx − 5|; **tilt**, the                      largest |angle|; **vertical speed**, the largest |vy|. A joint the box                      catches on (a ghost collision) shows in all three."
+        definition: "Closed form: uniform, level motion at 5 m/s (no friction, a flat floor). \
+                     Watched every step: **speed error**, the largest |vx − 5|; **tilt**, the \
+                     largest |angle|; **vertical speed**, the largest |vy|. A joint the box \
+                     catches on (a ghost collision) shows in all three."
             .into(),
-        criterion: "speed error ≤ 0.05 m/s (1%) and tilt ≤ 0.01 rad: the joints are not felt.                     (Separate two-sided segments fail this in tumble: the box trips over the                     first joint, `tests/tests/shapes.rs`.)"
+        criterion: "speed error ≤ 0.05 m/s (1%) and tilt ≤ 0.01 rad: the joints are not felt. \
+                    (Separate two-sided segments fail this in tumble: the box trips over the first \
+                    joint, `tests/tests/shapes.rs`.)"
             .into(),
         metrics: vec![
             MetricDef::new("speed error (m/s)", "speed_error_mps")
@@ -1096,12 +1104,18 @@ fn capsules() -> Case {
         title: "Capsules: rest height and an elastic collision".into(),
         steps,
         setup: format!(
-            "Frictionless capsules (core 1 m, radius {radius} m) lying on a static box: one at              rest; two meeting end to end, at {v1} and {v2} m/s along their common axis, with              restitution 1. {steps} steps (2 s); they meet after 0.6 s."
+            "Frictionless capsules (core 1 m, radius {radius} m) lying on a static box: one at \
+             rest; two meeting end to end, at {v1} and {v2} m/s along their common axis, with \
+             restitution 1. {steps} steps (2 s); they meet after 0.6 s."
         ),
-        definition: "**rest height error**: the resting capsule's centre height less its radius                      (closed form 0; the Soft Step lets a resting contact sink by up to the                      linear slop, 5 mm, before it pushes back). **exchange error**: equal masses                      in a 1-D elastic collision swap velocities (momentum and energy                      conservation); the largest |v − v*| of the two over their closing speed."
+        definition: "**rest height error**: the resting capsule's centre height less its radius \
+                     (closed form 0; the Soft Step lets a resting contact sink by up to the linear \
+                     slop, 5 mm, before it pushes back). **exchange error**: equal masses in a 1-D \
+                     elastic collision swap velocities (momentum and energy conservation); the \
+                     largest |v − v*| of the two over their closing speed."
             .into(),
-        criterion: "|rest height error| ≤ 6 mm (the slop and a millimetre) and exchange error ≤                     2%."
-            .into(),
+        criterion:
+            "|rest height error| ≤ 6 mm (the slop and a millimetre) and exchange error ≤ 2%.".into(),
         metrics: vec![
             MetricDef::new("rest height error (m)", "rest_height_error_m")
                 .bound(0.006)
