@@ -66,6 +66,30 @@ impl<'a> LaneWriter<'a> {
         }
     }
 
+    /// Starts loading an eighth of wide constraint `wide` (its `part`th, `part < LANES`) into
+    /// the cache (a hint: nothing happens past the end). Its lines are cold: the last step's
+    /// solve walked the whole buffer since they were written. An eighth at a time, so that
+    /// the prefetches do not crowd out the loads of the contacts being read.
+    #[inline]
+    pub fn prefetch(&self, wide: usize, part: usize) {
+        #[cfg(target_arch = "x86_64")]
+        if wide < self.len {
+            use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+            const LINES: usize = std::mem::size_of::<WideConstraint>().div_ceil(64);
+            const PER_PART: usize = LINES.div_ceil(LANES);
+            let start = self.ptr.wrapping_add(wide).cast::<i8>().cast_const();
+            for line in part * PER_PART..((part + 1) * PER_PART).min(LINES) {
+                // SAFETY: prefetching any address is sound: a hint that cannot fault.
+                #[allow(unsafe_code)]
+                unsafe {
+                    _mm_prefetch::<_MM_HINT_T0>(start.wrapping_add(64 * line))
+                };
+            }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        let _ = (wide, part);
+    }
+
     /// Writes every field of one lane from its contact: copies, plus the point terms of
     /// `contact_solver::point_terms` (the scalar constraints' own function, so both agree
     /// bit for bit). A point the manifold lacks gets zeros, so it applies no impulse.
