@@ -47,12 +47,8 @@ pub fn part_geometry(part: &ResolvedPart<'_>) -> Result<Vec<(Shape, Transform)>,
             return Err(PolygonError::VertexCount(points.len()));
         }
         let points: Vec<Vec2> = points.iter().map(|p| Vec2::from(*p)).collect();
+        // A body of one chain gets the identity: a single part's offset and angle are zeros.
         let local = Transform { p: offset, q };
-        let local = if part.single {
-            Transform::IDENTITY
-        } else {
-            local
-        };
         return Ok(chain_segments(&points, *looped)
             .into_iter()
             .map(|c| (Shape::ChainSegment(c), local))

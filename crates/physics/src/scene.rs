@@ -1345,15 +1345,8 @@ fn validate_shape(
             center2,
             radius,
         } => {
-            for (name, p) in [("center1", center1), ("center2", center2)] {
-                if !finite2(*p) {
-                    return Err(err(
-                        &format!("{field}.Capsule.{name}"),
-                        format!("{p:?}"),
-                        "two finite numbers (m)",
-                    ));
-                }
-            }
+            finite_point(center1, &format!("{field}.Capsule.center1"), err)?;
+            finite_point(center2, &format!("{field}.Capsule.center2"), err)?;
             if !(radius.is_finite() && *radius > 0.0) {
                 return Err(err(
                     &format!("{field}.Capsule.radius"),
@@ -1371,15 +1364,8 @@ fn validate_shape(
             )?;
         }
         ShapeDef::Segment { point1, point2 } => {
-            for (name, p) in [("point1", point1), ("point2", point2)] {
-                if !finite2(*p) {
-                    return Err(err(
-                        &format!("{field}.Segment.{name}"),
-                        format!("{p:?}"),
-                        "two finite numbers (m)",
-                    ));
-                }
-            }
+            finite_point(point1, &format!("{field}.Segment.point1"), err)?;
+            finite_point(point2, &format!("{field}.Segment.point2"), err)?;
             apart(
                 *point1,
                 *point2,
@@ -1398,13 +1384,7 @@ fn validate_shape(
                 ));
             }
             for (k, p) in points.iter().enumerate() {
-                if !finite2(*p) {
-                    return Err(err(
-                        &format!("{field}.Chain.points[{k}]"),
-                        format!("{p:?}"),
-                        "two finite numbers (m)",
-                    ));
-                }
+                finite_point(p, &format!("{field}.Chain.points[{k}]"), err)?;
             }
             let n = points.len();
             let pairs = if *looped { n } else { n - 1 };
@@ -1422,6 +1402,19 @@ fn validate_shape(
         }
     }
     Ok(())
+}
+
+/// A point: two finite numbers.
+fn finite_point(
+    p: &[f32; 2],
+    field: &str,
+    err: &dyn Fn(&str, String, &str) -> SceneError,
+) -> Result<(), SceneError> {
+    if finite2(*p) {
+        Ok(())
+    } else {
+        Err(err(field, format!("{p:?}"), "two finite numbers (m)"))
+    }
 }
 
 /// A rounding radius: finite and >= 0.

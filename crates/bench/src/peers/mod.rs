@@ -183,21 +183,23 @@ pub(crate) fn part_shape(part: &tumble_physics::ResolvedPart<'_>) -> Result<Part
             }
         }
         ShapeDef::Capsule {
-            center1,
-            center2,
-            radius,
+            center1, center2, ..
         } => {
             // A body of one capsule is centred on its midpoint, as tumble loads it.
-            let (c1, c2) = (Vec2::from(*center1), Vec2::from(*center2));
-            let mid = if part.single {
-                (c1 + c2) * 0.5
+            let Shape::Capsule(c) =
+                Shape::from_def(part.shape).map_err(|e| anyhow::anyhow!("bad capsule: {e}"))?
+            else {
+                anyhow::bail!("a capsule that does not build as one");
+            };
+            let (c1, c2) = if part.single {
+                (c.center1, c.center2)
             } else {
-                Vec2::ZERO
+                (Vec2::from(*center1), Vec2::from(*center2))
             };
             PartShape::Capsule {
-                center1: place(c1 - mid),
-                center2: place(c2 - mid),
-                radius: *radius,
+                center1: place(c1),
+                center2: place(c2),
+                radius: c.radius,
             }
         }
         ShapeDef::Segment { point1, point2 } => PartShape::Segment {

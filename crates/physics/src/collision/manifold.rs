@@ -160,20 +160,7 @@ fn single(
     sep: f32,
     id: u16,
 ) -> Manifold {
-    let (anchor_a, anchor_b) = anchors(xf_a, xf_b, local);
-    let mut m = Manifold {
-        normal: xf_a.q.apply(normal_local),
-        count: 1,
-        ..Manifold::default()
-    };
-    m.points[0] = ManifoldPoint {
-        anchor_a,
-        anchor_b,
-        separation: sep,
-        id,
-        ..ManifoldPoint::default()
-    };
-    m
+    local_manifold(xf_a, xf_b, normal_local, &[(local, sep, id)])
 }
 
 /// Circle against circle: one point on the line between the centres.
@@ -224,17 +211,39 @@ pub fn collide_capsule_circle(
     } else {
         p1 + e * (s1 / dot(e, e))
     };
+    // A centre on the core: the core's left normal, the same every run.
+    let on_core = Vec2::new(-e.y, e.x);
+    point_against_circle(
+        xf_a,
+        xf_b,
+        (closest, radius_a),
+        (c, b.radius),
+        on_core,
+        max_distance,
+    )
+}
+
+/// A's point `closest` grown by `radius_a` against a circle centred at `c` (both in A's
+/// frame): one point midway between the surfaces, the normal from `closest` to `c`, or along
+/// `fallback` when they coincide.
+fn point_against_circle(
+    xf_a: Transform,
+    xf_b: Transform,
+    (closest, radius_a): (Vec2, f32),
+    (c, radius_b): (Vec2, f32),
+    fallback: Vec2,
+    max_distance: f32,
+) -> Manifold {
     let (mut normal, dist) = normalize_and_length(c - closest);
-    let sep = dist - radius_a - b.radius;
+    let sep = dist - radius_a - radius_b;
     if sep > max_distance {
         return Manifold::default();
     }
     if dist == 0.0 {
-        // The centre on the core: the core's left normal, the same every run.
-        normal = Vec2::new(-e.y, e.x).normalize_or(Vec2::Y);
+        normal = fallback.normalize_or(Vec2::Y);
     }
     let ca = closest + normal * radius_a;
-    let cb = c - normal * b.radius;
+    let cb = c - normal * radius_b;
     single(xf_a, xf_b, normal, (ca + cb) * 0.5, sep, 0)
 }
 
@@ -626,66 +635,22 @@ fn clip(
     let i22 = (e2 + 1) % v2s.len();
     let normal = n1s[i11];
     let (v11, v12, v21, v22) = (v1s[i11], v1s[i12], v2s[i21], v2s[i22]);
-    let tangent = Vec2::new(-normal.y, normal.x);
-    let lower1 = 0.0;
-    let upper1 = dot(v12 - v11, tangent);
-    // The incident edge runs against the tangent (both polygons wind counter-clockwise).
-    let upper2 = dot(v21 - v11, tangent);
-    let lower2 = dot(v22 - v11, tangent);
-    if upper2 < lower1 || upper1 < lower2 {
+    let ids = if flip {
+        (make_id(i22, i11), make_id(i21, i12))
+    } else {
+        (make_id(i11, i22), make_id(i12, i21))
+    };
+    let Some([lower, upper]) = clip_segments((v11, v12), (v21, v22), normal, r1, r2, ids) else {
         return Manifold::default();
+    };
+    let shifted = |(p, sep, id): (Vec2, f32, u16)| (p + origin, sep, id);
+    // With B as the reference the normal is turned to run from A to B, and the points are
+    // listed from B's edge start, as the unflipped pair lists them from A's.
+    if flip {
+        local_manifold(xf_a, xf_b, -normal, &[shifted(upper), shifted(lower)])
+    } else {
+        local_manifold(xf_a, xf_b, normal, &[shifted(lower), shifted(upper)])
     }
-    let span = upper2 - lower2;
-    let v_lower = if lower2 < lower1 && span > f32::EPSILON {
-        v22.lerp(v21, (lower1 - lower2) / span)
-    } else {
-        v22
-    };
-    let v_upper = if upper2 > upper1 && span > f32::EPSILON {
-        v22.lerp(v21, (upper1 - lower2) / span)
-    } else {
-        v21
-    };
-    let sep_lower = dot(v_lower - v11, normal);
-    let sep_upper = dot(v_upper - v11, normal);
-    // Midway between the surfaces, each moved out by its radius.
-    let p_lower = v_lower + normal * (0.5 * (r1 - r2 - sep_lower)) + origin;
-    let p_upper = v_upper + normal * (0.5 * (r1 - r2 - sep_upper)) + origin;
-    let radius = r1 + r2;
-    let (sep_lower, sep_upper) = (sep_lower - radius, sep_upper - radius);
-    let (n_ab, pts) = if flip {
-        (
-            -normal,
-            [
-                (p_upper, sep_upper, make_id(i21, i12)),
-                (p_lower, sep_lower, make_id(i22, i11)),
-            ],
-        )
-    } else {
-        (
-            normal,
-            [
-                (p_lower, sep_lower, make_id(i11, i22)),
-                (p_upper, sep_upper, make_id(i12, i21)),
-            ],
-        )
-    };
-    let mut m = Manifold {
-        normal: xf_a.q.apply(n_ab),
-        count: 2,
-        ..Manifold::default()
-    };
-    for (k, (local, sep, id)) in pts.into_iter().enumerate() {
-        let (anchor_a, anchor_b) = anchors(xf_a, xf_b, local);
-        m.points[k] = ManifoldPoint {
-            anchor_a,
-            anchor_b,
-            separation: sep,
-            id,
-            ..ManifoldPoint::default()
-        };
-    }
-    m
 }
 
 /// Chain segment A against circle B: one-sided, and a centre in the region of a neighbour's
@@ -722,16 +687,16 @@ pub fn collide_chain_segment_circle(
     } else {
         p1 + e * (v / dot(e, e))
     };
-    let (mut normal, dist) = normalize_and_length(c - closest);
-    let sep = dist - b.radius;
-    if sep > max_distance {
-        return Manifold::default();
-    }
-    if dist == 0.0 {
-        normal = right_perp(e).normalize_or(Vec2::Y);
-    }
-    let cb = c - normal * b.radius;
-    single(xf_a, xf_b, normal, (closest + cb) * 0.5, sep, 0)
+    // A centre on the segment: its pushing side.
+    let fallback = right_perp(e);
+    point_against_circle(
+        xf_a,
+        xf_b,
+        (closest, 0.0),
+        (c, b.radius),
+        fallback,
+        max_distance,
+    )
 }
 
 /// The closest features of a segment and a convex polygon's core (two or more vertices, in
