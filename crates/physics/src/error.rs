@@ -27,6 +27,18 @@ pub enum SceneError {
         /// What is allowed instead.
         allowed: String,
     },
+    /// A joint's field is out of range, or it names bodies it cannot join.
+    #[error("joint {index}: field `{field}` is {value}; allowed: {allowed}")]
+    Joint {
+        /// The joint's index in the scene's `joints` list.
+        index: usize,
+        /// The field's name (`Revolute.limit` for a variant's field).
+        field: String,
+        /// The value that was given.
+        value: String,
+        /// What is allowed instead.
+        allowed: String,
+    },
     /// The scene has more bodies than the limit allows.
     #[error(
         "the scene has {count} bodies, more than the limit of {max}; raise the limit (runner flag --max-bodies) if you mean it"

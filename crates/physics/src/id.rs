@@ -27,6 +27,24 @@ pub struct ShapeId {
     pub generation: u32,
 }
 
+/// A joint's handle: like [`BodyId`], for the world's joints. A joint from a scene file keeps
+/// its index in the file's `joints`.
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize,
+)]
+pub struct JointId {
+    /// Slot in the world's joint array.
+    pub index: u32,
+    /// How many joints held the slot before this one.
+    pub generation: u32,
+}
+
+impl fmt::Display for JointId {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "joint {} (generation {})", self.index, self.generation)
+    }
+}
+
 impl BodyId {
     /// The id of the body a scene put at `index` (generation 0).
     pub fn scene(index: usize) -> BodyId {

@@ -28,6 +28,7 @@ mod crew;
 mod error;
 mod id;
 mod island;
+pub mod joint;
 mod math;
 mod parallel;
 mod profile;
@@ -39,7 +40,8 @@ mod world;
 pub use body::BodyMass;
 pub use error::{PolygonError, SceneError, SettingsError};
 pub use glam::Vec2;
-pub use id::{BodyId, ShapeId};
+pub use id::{BodyId, JointId, ShapeId};
+pub use joint::{JointDef, JointKind};
 pub use math::{Rot, Transform};
 pub use profile::StepProfile;
 #[cfg(feature = "schema")]

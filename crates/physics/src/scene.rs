@@ -585,11 +585,14 @@ pub struct SceneDef {
     #[serde(default = "one", skip_serializing_if = "is_one")]
     #[cfg_attr(feature = "schema", schemars(extend("default" = 1.0)))]
     pub hit_speed: f32,
+    /// Joints between the bodies, in id order; anchors and axes in world coordinates at
+    /// the poses the scene starts with.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub joints: Vec<crate::joint::JointDef>,
 }
 
 /// A scene's `solver` block: every field optional, an absent one keeps the engine's default
-/// (Box2D v3's). The joint fields are accepted, validated and kept for the joints that will
-/// read them.
+/// (Box2D v3's).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(deny_unknown_fields)]
@@ -618,11 +621,11 @@ pub struct SolverDef {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[cfg_attr(feature = "schema", schemars(extend("exclusiveMinimum" = 0)))]
     pub max_push_speed: Option<f32>,
-    /// Joint stiffness (Hz, >= 0; default 60). Kept for joints.
+    /// Joint stiffness (Hz, >= 0; default 60; 0 is rigid).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub joint_hertz: Option<f32>,
-    /// Joint damping ratio (>= 0; default 2). Kept for joints.
+    /// Joint damping ratio (>= 0; default 2).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub joint_damping_ratio: Option<f32>,
@@ -670,6 +673,8 @@ impl SolverDef {
         );
         set(&mut settings.sleep_threshold, self.sleep_threshold);
         set(&mut settings.time_to_sleep, self.time_to_sleep);
+        set(&mut settings.joint_hertz, self.joint_hertz);
+        set(&mut settings.joint_damping_ratio, self.joint_damping_ratio);
     }
 
     /// Checks each given field; the error names it as `solver.<field>`.
@@ -754,6 +759,7 @@ impl SceneDef {
             sleep: true,
             continuous: true,
             hit_speed: 1.0,
+            joints: Vec::new(),
         }
     }
 
@@ -856,6 +862,30 @@ impl SceneDef {
         self.solver.validate()?;
         for (index, body) in self.bodies.iter().enumerate() {
             validate_body(index, body)?;
+        }
+        // A joint costs the step about what a contact does: the body limit bounds them too.
+        if self.joints.len() > limits.max_bodies {
+            return Err(scene_err(
+                "joints",
+                format!("{} joints", self.joints.len()),
+                &format!(
+                    "at most {} joints, the body limit; raise it (runner flag --max-bodies) if \
+                     you mean it",
+                    limits.max_bodies
+                ),
+            ));
+        }
+        let frames = |i: usize| {
+            self.bodies.get(i).map(|b| crate::joint::def::JointFrame {
+                frame: crate::Transform {
+                    p: glam::Vec2::from(b.position),
+                    q: crate::Rot::from_angle(b.angle),
+                },
+                dynamic: b.kind == BodyKind::Dynamic,
+            })
+        };
+        for (index, joint) in self.joints.iter().enumerate() {
+            joint.validate(index, &frames)?;
         }
         Ok(())
     }

@@ -21,6 +21,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use glam::Vec2;
 
 use crate::collision::Manifold;
+use crate::joint::{Joint, JointContext};
 use crate::math::dot;
 use crate::parallel::{
     BodyStates, SharedSlice, Spread, StageBoard, for_each_part, for_parts, worker_range,
@@ -115,6 +116,13 @@ pub struct Solver {
     /// For each touching contact (by position in `touching`), its lane of a wide
     /// constraint, or `NO_LANE` when it is a scalar constraint.
     lane_of: Vec<LaneIndex>,
+    /// The awake joints' slots in stage order: `joint_order[joint_ranges[k]]` are solved in
+    /// stage k with the contacts of `color_ranges[k]` (k = 0 the overflow).
+    pub joint_order: Vec<u32>,
+    /// See `joint_order`.
+    pub joint_ranges: Vec<Range<usize>>,
+    /// The joints (slot and dynamic pair) the colouring was computed for.
+    colored_joints: Vec<(u32, [u32; 2])>,
     /// Whether any constraint of this step has restitution.
     pub any_restitution: bool,
     /// Whether the last prepare coloured the graph (false: last step's colouring was kept).
@@ -172,6 +180,7 @@ impl Solver {
     #[allow(clippy::too_many_arguments)]
     pub fn prepare<C: SolverContact>(
         &mut self,
+        joints: &[Touching],
         touching: &[Touching],
         contacts: &[C],
         body_count: usize,
@@ -195,6 +204,11 @@ impl Solver {
         let key = (body_count, self.use_wide);
         let same = self.colored_for == Some(key)
             && touching.len() == self.colored_pairs.len()
+            && joints.len() == self.colored_joints.len()
+            && joints
+                .iter()
+                .zip(&self.colored_joints)
+                .all(|(j, &(slot, pair))| j.contact == slot && j.dynamic == pair)
             && for_parts(
                 spread,
                 (touching, &self.colored_pairs[..]),
@@ -205,7 +219,7 @@ impl Solver {
                 &|a, b| a && b,
             );
         if !same {
-            self.color(touching, body_count, spread, min_check);
+            self.color(joints, touching, body_count, spread, min_check);
             self.colored_for = Some(key);
         }
         self.recolored = !same;
@@ -313,11 +327,23 @@ impl Solver {
 
     /// Greedy colouring in contact order, then the colour ranges and where each touching
     /// contact goes: its slot among the scalar constraints, or its lane of a wide one.
-    fn color(&mut self, touching: &[Touching], body_count: usize, spread: Spread<'_>, min: usize) {
+    fn color(
+        &mut self,
+        joints: &[Touching],
+        touching: &[Touching],
+        body_count: usize,
+        spread: Spread<'_>,
+        min: usize,
+    ) {
         // The one serial part, so it reads only the compact `touching` records and the
         // per-body colour masks, never the contacts, and writes each contact's colour and
         // rank; the slots follow from those in parallel below.
         self.coloring.reset(body_count);
+        let side = |d: u32| (d != NOT_DYNAMIC).then_some(d as usize);
+        // Joints first, in slot order, in the same graph (Box2D colours both): the contacts
+        // then fill the colours around them. With no joints this is the contact colouring
+        // as it always was.
+        self.color_joints(joints);
         // Colours are handed out in a scrambled order, not in contact order: see
         // `coloring_order`. Ranks stay in contact order, so each colour's lanes still stream.
         coloring_order(touching, &mut self.order_buckets, &mut self.coloring_order);
@@ -325,7 +351,6 @@ impl Solver {
         self.color_of.resize(touching.len(), 0);
         for &k in &self.coloring_order {
             let t = &touching[k as usize];
-            let side = |d: u32| (d != NOT_DYNAMIC).then_some(d as usize);
             let color = self.coloring.assign(side(t.dynamic[0]), side(t.dynamic[1]));
             self.color_of[k as usize] = color as u8;
         }
@@ -406,6 +431,38 @@ impl Solver {
                 }
             },
         );
+    }
+
+    /// Colours the joints (the first part of [`Solver::color`]) and lays out their stage
+    /// order: the overflow's first, then each colour's, each in slot order.
+    fn color_joints(&mut self, joints: &[Touching]) {
+        let side = |d: u32| (d != NOT_DYNAMIC).then_some(d as usize);
+        let mut counts = [0usize; COLOR_COUNT];
+        let colors: Vec<u8> = joints
+            .iter()
+            .map(|j| {
+                let c = self.coloring.assign(side(j.dynamic[0]), side(j.dynamic[1]));
+                counts[c] += 1;
+                c as u8
+            })
+            .collect();
+        let mut start = [0usize; COLOR_COUNT];
+        self.joint_ranges.clear();
+        let mut offset = 0;
+        for color in std::iter::once(OVERFLOW).chain(0..OVERFLOW) {
+            start[color] = offset;
+            self.joint_ranges.push(offset..offset + counts[color]);
+            offset += counts[color];
+        }
+        self.joint_order.clear();
+        self.joint_order.resize(joints.len(), 0);
+        for (j, &c) in joints.iter().zip(&colors) {
+            self.joint_order[start[c as usize]] = j.contact;
+            start[c as usize] += 1;
+        }
+        self.colored_joints.clear();
+        self.colored_joints
+            .extend(joints.iter().map(|j| (j.contact, j.dynamic)));
     }
 
     /// Stores every constraint's impulses into its contact, over `spread` where there are
@@ -506,17 +563,19 @@ impl Solver {
         out
     }
 
-    /// Colours in use, overflow not counted.
+    /// Colours in use (by contacts or joints), overflow not counted.
     pub fn active_colors(&self) -> usize {
-        self.color_ranges[1..]
-            .iter()
-            .filter(|r| !r.is_empty())
+        (1..self.color_ranges.len())
+            .filter(|&k| {
+                !self.color_ranges[k].is_empty()
+                    || self.joint_ranges.get(k).is_some_and(|r| !r.is_empty())
+            })
             .count()
     }
 
-    /// Constraints in the overflow.
+    /// Constraints in the overflow (contacts and joints).
     pub fn overflow_count(&self) -> usize {
-        self.color_ranges[0].len()
+        self.color_ranges[0].len() + self.joint_ranges.first().map_or(0, |r| r.len())
     }
 
     /// Runs the substeps, then restitution, over `spread`: this thread and its crew's
@@ -532,6 +591,7 @@ impl Solver {
     /// `moving` lists the bodies that move (each once; the body stages walk only them).
     pub fn run_substeps(
         &mut self,
+        joints: &mut [Joint],
         states: &mut [BodyState],
         motion: &[BodyMotion],
         moving: &[u32],
@@ -549,16 +609,18 @@ impl Solver {
         let mut plan = std::mem::take(&mut self.plan);
         self.plan_into(&mut plan, moving.len(), step, workers);
         let bodies = Bodies { motion, moving };
-        let result = self.run_plan(&plan, states, &bodies, step, spread, workers);
+        let result = self.run_plan(&plan, joints, states, &bodies, step, spread, workers);
         self.plan = plan;
         result
     }
 
     /// Runs the stages of `plan` on `workers` workers; see [`Solver::run_substeps`].
     #[allow(unsafe_code)]
+    #[allow(clippy::too_many_arguments)]
     fn run_plan(
         &mut self,
         plan: &[Stage],
+        joints: &mut [Joint],
         states: &mut [BodyState],
         bodies: &Bodies<'_>,
         step: &SubstepParams,
@@ -570,12 +632,17 @@ impl Solver {
             wide: SharedSlice::new(&mut self.wide),
             use_wide: self.use_wide,
             use_avx: self.use_avx,
+            joints: SharedSlice::new(joints),
+            joint_order: &self.joint_order,
         };
         if workers == 1 {
             let states = BodyStates::exclusive(states);
             let caps = plan
                 .iter()
-                .map(|stage| passes.run(stage, stage.items.clone(), &states, bodies, step))
+                .map(|stage| {
+                    passes.run_joints(stage, stage.joints.clone(), &states, step);
+                    passes.run(stage, stage.items.clone(), &states, bodies, step)
+                })
                 .sum();
             return (caps, 1);
         }
@@ -593,7 +660,18 @@ impl Solver {
             let mut mine = 0;
             let mut run = |s: usize, block: usize| {
                 let stage = &plan[s];
-                let items = worker_range(&stage.items, block, stage.blocks);
+                // A colour's joint blocks come first, then its contact blocks; a stage of
+                // one block (the overflow) solves its joints, then its contacts.
+                let jb = stage.joint_blocks;
+                if block < jb {
+                    let joints = worker_range(&stage.joints, block, jb);
+                    passes.run_joints(stage, joints, &states, step);
+                    return;
+                }
+                if jb == 0 {
+                    passes.run_joints(stage, stage.joints.clone(), &states, step);
+                }
+                let items = worker_range(&stage.items, block - jb, stage.blocks - jb);
                 mine += passes.run(stage, items, &states, bodies, step);
             };
             match board.join() {
@@ -631,27 +709,38 @@ impl Solver {
             color: 0,
             items: 0..bodies,
             blocks: blocks(bodies, 128),
+            joints: 0..0,
+            joint_blocks: 0,
         };
         let colors = |plan: &mut Vec<Stage>, pass| {
             for (k, r) in self.color_ranges.iter().enumerate() {
-                if r.is_empty() {
+                // Restitution is the contacts' alone.
+                let joints = match (pass, self.joint_ranges.get(k)) {
+                    (Pass::Restitution, _) | (_, None) => 0..0,
+                    (_, Some(j)) => j.clone(),
+                };
+                if r.is_empty() && joints.is_empty() {
                     continue;
                 }
-                let (items, blocks) = if k == 0 {
+                let some = |len: usize, min: usize| if len == 0 { 0 } else { blocks(len, min) };
+                let (items, contact_blocks) = if k == 0 {
                     // The overflow: its constraints may share bodies, so one worker alone.
                     (r.clone(), 1)
                 } else if self.use_wide {
                     let items = self.wide_ranges[k].clone();
-                    let n = blocks(items.len(), 4);
+                    let n = some(items.len(), 4);
                     (items, n)
                 } else {
-                    (r.clone(), blocks(r.len(), 32))
+                    (r.clone(), some(r.len(), 32))
                 };
+                let joint_blocks = if k == 0 { 0 } else { some(joints.len(), 16) };
                 plan.push(Stage {
                     pass,
                     color: k,
                     items,
-                    blocks,
+                    blocks: joint_blocks + contact_blocks,
+                    joints,
+                    joint_blocks,
                 });
             }
         };
@@ -792,8 +881,12 @@ struct Stage {
     color: usize,
     /// Bodies, or the colour's constraints (wide ones when packed).
     items: Range<usize>,
-    /// Blocks it is cut into.
+    /// Blocks it is cut into: the joints' first, then the items'.
     blocks: usize,
+    /// The colour's joints (a range of `Solver::joint_order`).
+    joints: Range<usize>,
+    /// Blocks of joints; 0 when the stage's one block solves its joints before its items.
+    joint_blocks: usize,
 }
 
 /// What the body stages walk: the moving bodies, and every body's integration flags.
@@ -809,9 +902,39 @@ struct Passes<'a> {
     wide: SharedSlice<'a, WideConstraint>,
     use_wide: bool,
     use_avx: bool,
+    joints: SharedSlice<'a, Joint>,
+    joint_order: &'a [u32],
 }
 
 impl Passes<'_> {
+    /// Runs `stage`'s pass over the joints `range` of `joint_order`.
+    #[allow(unsafe_code)]
+    fn run_joints(
+        &self,
+        stage: &Stage,
+        range: Range<usize>,
+        states: &BodyStates<'_>,
+        p: &SubstepParams,
+    ) {
+        let ctx = JointContext {
+            h: p.h,
+            inv_h: 1.0 / p.h,
+            warm_starting: true,
+        };
+        for &j in &self.joint_order[range] {
+            // SAFETY: each joint is in `joint_order` once, and the blocks of a stage are
+            // disjoint ranges of it; its bodies are written by no other block of the stage
+            // (the colouring).
+            let joint = unsafe { self.joints.at_mut(j) };
+            match stage.pass {
+                Pass::WarmStart => joint.warm_start(states),
+                Pass::Solve => joint.solve(states, &ctx, true),
+                Pass::Relax => joint.solve(states, &ctx, false),
+                _ => {}
+            }
+        }
+    }
+
     /// Runs `stage` over `items`, a block of its items (all of them on one thread). Returns
     /// how often a speed cap bit.
     #[allow(unsafe_code)]
@@ -1047,7 +1170,7 @@ mod tests {
         let (touching, supports, bodies) = pyramid_contacts(60);
         let mut solver = Solver::new();
         solver.use_wide = true;
-        solver.color(&touching, bodies, Spread::INLINE, 1);
+        solver.color(&[], &touching, bodies, Spread::INLINE, 1);
         assert_eq!(solver.overflow_count(), 0);
         let left_first = supports
             .iter()

@@ -524,6 +524,7 @@ impl World {
     /// slot is free for the next body under a new generation.
     pub fn destroy_body(&mut self, id: BodyId) -> Result<(), WorldError> {
         let i = self.slot(id)?;
+        self.destroy_joints_of(i as u32);
         self.wake_touching(i as u32);
         self.remove_contacts_of(i as u32);
         self.islands.remove_body(i as u32);

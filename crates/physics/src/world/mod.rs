@@ -2,13 +2,15 @@
 //! over them: creating, changing and destroying bodies and shapes in `bodies.rs`, reading
 //! them in `read.rs`, the step's stages in `step.rs`, touching, islands and sleep in
 //! `sleep.rs`, snapshots in `snapshot.rs`, the invariants between the stores in
-//! `validate.rs`, the settings in `settings.rs` and the worker threads in `threads.rs`.
+//! `validate.rs`, the settings in `settings.rs`, the worker threads in `threads.rs` and the
+//! joints in `joints.rs`.
 //!
 //! Stores are flat arrays indexed by a body's or a shape's slot (its id's `index`), so the
 //! step's stages split them across threads; a destroyed object leaves its slot free for the
 //! next, under a new generation.
 
 mod bodies;
+mod joints;
 mod read;
 mod settings;
 mod sleep;
@@ -27,8 +29,9 @@ use crate::collision::Manifold;
 use crate::collision::broad_phase::BroadPhase;
 use crate::crew::Crew;
 use crate::error::SceneError;
-use crate::id::{BodyId, ShapeId, Slots};
+use crate::id::{BodyId, JointId, ShapeId, Slots};
 use crate::island::Islands;
+use crate::joint::Joint;
 use crate::math::{Rot, Transform};
 use crate::profile::StepProfile;
 use crate::scene::{BodyKind, Filter, Limits, SceneDef};
@@ -121,6 +124,9 @@ pub enum WorldError {
     /// The shape was destroyed (or never was).
     #[error("{0} does not exist (destroyed, or from another world)")]
     NoShape(ShapeId),
+    /// The joint was destroyed (or never was).
+    #[error("{0} does not exist (destroyed, or from another world)")]
+    NoJoint(JointId),
     /// The change was checked as a scene's would be, and refused.
     #[error("{0}")]
     Refused(#[from] SceneError),
@@ -353,6 +359,15 @@ pub struct World {
     steps: u64,
     speed_caps: u64,
     profile_recycled: usize,
+    joint_slots: Slots,
+    /// Joints by slot (a free slot holds its last joint, unsolved).
+    joints: Vec<Joint>,
+    /// Pairs of bodies (by `pair_key`) that joints keep from touching, with how many do.
+    no_collide: FxHashMap<u64, u32>,
+    /// This step's awake joints, for the colouring.
+    joint_list: Vec<Touching>,
+    /// Last step's substep rate, for the joints' reaction forces.
+    last_inv_h: f32,
 }
 
 impl World {
@@ -401,6 +416,11 @@ impl World {
             steps: 0,
             speed_caps: 0,
             profile_recycled: 0,
+            joint_slots: Slots::default(),
+            joints: Vec::new(),
+            no_collide: FxHashMap::default(),
+            joint_list: Vec::new(),
+            last_inv_h: 0.0,
         }
     }
 
@@ -419,6 +439,16 @@ impl World {
         world.reserve(scene.bodies.len());
         for (i, body) in scene.bodies.iter().enumerate() {
             world.insert_body(body, i);
+        }
+        for def in &scene.joints {
+            let [a, b] = def.bodies();
+            let joint = def.build(
+                world.body_frame(a),
+                world.body_frame(b),
+                world.settings.joint_hertz,
+                world.settings.joint_damping_ratio,
+            );
+            world.insert_joint(joint);
         }
         Ok(world)
     }

@@ -51,6 +51,20 @@ pub struct StepSettings {
     /// `B2_TIME_TO_SLEEP`, 0.5).
     #[serde(default = "time_to_sleep")]
     pub time_to_sleep: f32,
+    /// Stiffness of a joint's rigid rows (Hz; Box2D's 60), given to each joint as it is
+    /// made; clamped to a quarter of the substep rate. 0 is rigid.
+    #[serde(default = "joint_hertz")]
+    pub joint_hertz: f32,
+    /// Damping ratio of a joint's rigid rows (Box2D's 2), given to each joint as it is made.
+    #[serde(default = "joint_damping_ratio")]
+    pub joint_damping_ratio: f32,
+}
+
+fn joint_hertz() -> f32 {
+    60.0
+}
+fn joint_damping_ratio() -> f32 {
+    2.0
 }
 
 fn yes() -> bool {
@@ -84,6 +98,8 @@ impl Default for StepSettings {
             enable_sleep: true,
             sleep_threshold: sleep_threshold(),
             time_to_sleep: time_to_sleep(),
+            joint_hertz: joint_hertz(),
+            joint_damping_ratio: joint_damping_ratio(),
         }
     }
 }
@@ -150,6 +166,16 @@ impl StepSettings {
             "time_to_sleep",
             self.time_to_sleep,
             "s; Box2D's default is 0.5",
+        )?;
+        non_negative(
+            "joint_hertz",
+            self.joint_hertz,
+            "Hz; 0 is rigid; Box2D's is 60",
+        )?;
+        non_negative(
+            "joint_damping_ratio",
+            self.joint_damping_ratio,
+            "Box2D's default is 2",
         )?;
         if !(self.max_linear_speed.is_finite() && self.max_linear_speed > 0.0) {
             return Err(err(

@@ -190,6 +190,14 @@ impl World {
                     && of[c.body_b as usize] == k
             })
             .map(|(c, _)| (c.body_a, c.body_b))
+            .chain(self.joints.iter().enumerate().filter_map(|(j, joint)| {
+                let (a, b) = (joint.body_a, joint.body_b);
+                (self.joint_slots.is_alive(j)
+                    && joint.links_islands()
+                    && of[a as usize] == k
+                    && of[b as usize] == k)
+                    .then_some((a, b))
+            }))
             .collect();
         self.islands.split(k, &links);
     }

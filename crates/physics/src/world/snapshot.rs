@@ -40,6 +40,11 @@ pub struct WorldSnapshot {
     /// from snapshots written before it was counted, which read as 0.
     #[serde(default)]
     non_finite_bodies: u64,
+    /// Joints with their impulses (absent from snapshots written before joints: none).
+    #[serde(default)]
+    joint_slots: Slots,
+    #[serde(default)]
+    joints: Vec<crate::joint::Joint>,
 }
 
 impl WorldSnapshot {
@@ -98,6 +103,8 @@ impl World {
             steps: self.steps,
             speed_caps: self.speed_caps,
             non_finite_bodies: self.non_finite_bodies,
+            joint_slots: self.joint_slots.clone(),
+            joints: self.joints.clone(),
         }
     }
 
@@ -186,6 +193,14 @@ impl World {
         {
             return Err(corrupt("an island names a body that does not exist".into()));
         }
+        let bad_joint = snapshot.joints.len() != snapshot.joint_slots.len()
+            || snapshot.joints.iter().enumerate().any(|(k, j)| {
+                let live = |b: u32| (b as usize) < n && snapshot.body_slots.is_alive(b as usize);
+                snapshot.joint_slots.is_alive(k) && !(live(j.body_a) && live(j.body_b))
+            });
+        if bad_joint {
+            return Err(corrupt("a joint names a body that does not exist".into()));
+        }
         snapshot.islands.recount();
         snapshot.islands.check().map_err(corrupt)?;
         let mut world = World::new(snapshot.settings);
@@ -234,6 +249,16 @@ impl World {
         world.steps = snapshot.steps;
         world.speed_caps = snapshot.speed_caps;
         world.non_finite_bodies = snapshot.non_finite_bodies;
+        for (k, j) in snapshot.joints.iter().enumerate() {
+            if snapshot.joint_slots.is_alive(k) && !j.collide_connected {
+                *world
+                    .no_collide
+                    .entry(pair_key(j.body_a, j.body_b))
+                    .or_insert(0) += 1;
+            }
+        }
+        world.joint_slots = snapshot.joint_slots;
+        world.joints = snapshot.joints;
         world.proxies_changed = true;
         world.tree_dirty = true;
         Ok(world)

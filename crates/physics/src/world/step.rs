@@ -173,11 +173,13 @@ impl World {
         // static shape), whose filters let them touch, neither a sensor, that has none yet.
         // Cheapest refusals first: in a resting pile nearly every pair a moved proxy finds
         // has its contact already, and the map says so before the shapes are read.
+        let no_collide = &self.no_collide;
         let wants_contact = |p: u32, q: u32| {
             let (bp_, bq) = (body_of[p as usize], body_of[q as usize]);
             bp_ != bq
                 && (dynamic[bp_ as usize].dynamic || dynamic[bq as usize].dynamic)
                 && !pairs.contains_key(&pair_key(p, q))
+                && (no_collide.is_empty() || !no_collide.contains_key(&pair_key(bp_, bq)))
                 && cores[p as usize].overlaps(&cores[q as usize])
                 && {
                     let (rp, rq) = (&records[p as usize], &records[q as usize]);
@@ -488,8 +490,11 @@ impl World {
                 .extend((0..keys.len() as u32).filter_map(touching_at));
         }
         profile.touching = self.touching.len();
+        self.prepare_joints(h, spread, self.wide.prepare);
+        self.last_inv_h = inv_h;
         self.solver.use_wide = s.simd;
         self.solver.prepare(
+            &self.joint_list,
             &self.touching,
             &self.contacts,
             self.solver_bodies.len(),
@@ -515,8 +520,10 @@ impl World {
         };
         // Below its threshold the solver runs on one worker: waking the others for every
         // stage (a hundred a step) costs more than their share of a small colour.
-        let solve_spread = spread.for_stage(self.touching.len(), self.wide.solve);
+        let constraints = self.touching.len() + self.joint_list.len();
+        let solve_spread = spread.for_stage(constraints, self.wide.solve);
         let (caps, workers) = self.solver.run_substeps(
+            &mut self.joints,
             &mut self.states,
             &self.motion,
             &self.moving,

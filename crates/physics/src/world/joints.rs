@@ -1,0 +1,317 @@
+//! The world's joints: made from a scene's definitions or between steps, destroyed with
+//! either body, joined into their bodies' islands, kept from touching unless they ask, and
+//! prepared each step for the solver (which colours them with the contacts).
+
+use glam::Vec2;
+
+use super::{World, WorldError, pair_key};
+use crate::id::{BodyId, JointId};
+use crate::joint::def::JointFrame;
+use crate::joint::{Joint, JointBody, JointContext, JointDef, JointKind, Mouse};
+use crate::math::Transform;
+use crate::parallel::{Spread, for_each_part};
+use crate::scene::BodyKind;
+use crate::solver::{NOT_DYNAMIC, Touching};
+
+impl World {
+    /// The frame (origin and rotation) of body `i`.
+    pub(super) fn body_frame(&self, i: usize) -> Transform {
+        let xf = self.sims[i].xf;
+        Transform {
+            p: xf.p - xf.q.apply(self.records[i].local_center),
+            q: xf.q,
+        }
+    }
+
+    /// Adds a joint between steps, defined as in a scene file (bodies by slot index, anchors
+    /// in world coordinates at the bodies' current poses), checked as a scene's would be.
+    /// Its rigid rows take the settings' `joint_hertz` and `joint_damping_ratio`.
+    pub fn create_joint(&mut self, def: &JointDef) -> Result<JointId, WorldError> {
+        let index = self.joint_slots.next_index() as usize;
+        let frames = |i: usize| {
+            self.body_slots.is_alive(i).then(|| JointFrame {
+                frame: self.body_frame(i),
+                dynamic: self.sims[i].kind == BodyKind::Dynamic,
+            })
+        };
+        def.validate(index, &frames)?;
+        let [a, b] = def.bodies();
+        let joint = def.build(
+            self.body_frame(a),
+            self.body_frame(b),
+            self.settings.joint_hertz,
+            self.settings.joint_damping_ratio,
+        );
+        Ok(self.insert_joint(joint))
+    }
+
+    /// A mouse joint: pulls the point of `body` now at `target` towards wherever
+    /// [`World::set_mouse_target`] moves the target, as a spring of `hertz` and
+    /// `damping_ratio` no stronger than `max_force` (the viewer's drag).
+    pub fn create_mouse_joint(
+        &mut self,
+        body: BodyId,
+        target: Vec2,
+        hertz: f32,
+        damping_ratio: f32,
+        max_force: f32,
+    ) -> Result<JointId, WorldError> {
+        let i = self.slot(body)?;
+        let finite = target.is_finite() && hertz.is_finite() && damping_ratio.is_finite();
+        if !(finite && hertz > 0.0 && damping_ratio >= 0.0 && max_force >= 0.0) {
+            return Err(WorldError::Invalid {
+                what: format!(
+                    "mouse joint: target {target:?}, hertz {hertz}, damping ratio \
+                     {damping_ratio}, max force {max_force}"
+                ),
+                why: "a finite target, hertz > 0, damping ratio >= 0, max force >= 0".into(),
+            });
+        }
+        if self.sims[i].kind != BodyKind::Dynamic {
+            return Err(WorldError::Invalid {
+                what: format!("mouse joint on {body}"),
+                why: "only a dynamic body can be dragged".into(),
+            });
+        }
+        let frame = self.body_frame(i);
+        let local = Transform {
+            p: frame.q.apply_inv(target - frame.p),
+            q: crate::Rot::IDENTITY,
+        };
+        let joint = Joint {
+            body_a: i as u32,
+            body_b: i as u32,
+            local_a: local,
+            local_b: local,
+            collide_connected: true,
+            hertz: 0.0,
+            damping_ratio: 0.0,
+            kind: JointKind::Mouse(Mouse::new(target, hertz, damping_ratio, max_force)),
+            step: Default::default(),
+        };
+        Ok(self.insert_joint(joint))
+    }
+
+    /// Moves a mouse joint's target.
+    pub fn set_mouse_target(&mut self, id: JointId, target: Vec2) -> Result<(), WorldError> {
+        if !target.is_finite() {
+            return Err(WorldError::Invalid {
+                what: format!("mouse target {target:?}"),
+                why: "a finite point".into(),
+            });
+        }
+        match self.joint_kind_mut(id)? {
+            JointKind::Mouse(m) => {
+                m.target = target;
+                Ok(())
+            }
+            other => Err(WorldError::Invalid {
+                what: format!("{id}, a {} joint", other.name()),
+                why: "only a mouse joint has a target".into(),
+            }),
+        }
+    }
+
+    /// Puts a built joint in a slot, links its bodies' islands and keeps them apart unless
+    /// it lets them touch.
+    pub(super) fn insert_joint(&mut self, joint: Joint) -> JointId {
+        let (index, generation, fresh) = self.joint_slots.take();
+        let (a, b) = (joint.body_a, joint.body_b);
+        let keep_apart = !joint.collide_connected;
+        let links = joint.links_islands();
+        if fresh {
+            self.joints.push(joint);
+        } else {
+            self.joints[index as usize] = joint;
+        }
+        for body in [a, b] {
+            self.wake_body(body);
+        }
+        if links && self.is_dynamic(a) && self.is_dynamic(b) {
+            self.islands.link(a, b);
+        }
+        if keep_apart {
+            *self.no_collide.entry(pair_key(a, b)).or_insert(0) += 1;
+            self.remove_contacts_where(|c| pair_key(c.body_a, c.body_b) == pair_key(a, b));
+        }
+        self.debug_validate();
+        JointId { index, generation }
+    }
+
+    fn is_dynamic(&self, body: u32) -> bool {
+        self.sims[body as usize].kind == BodyKind::Dynamic
+    }
+
+    fn joint_slot(&self, id: JointId) -> Result<usize, WorldError> {
+        if self.joint_slots.holds(id.index, id.generation) {
+            Ok(id.index as usize)
+        } else {
+            Err(WorldError::NoJoint(id))
+        }
+    }
+
+    /// Removes a joint between steps; its bodies wake, and may touch again if it kept them
+    /// apart.
+    pub fn destroy_joint(&mut self, id: JointId) -> Result<(), WorldError> {
+        let k = self.joint_slot(id)?;
+        self.remove_joint(k);
+        self.debug_validate();
+        Ok(())
+    }
+
+    fn remove_joint(&mut self, k: usize) {
+        let joint = self.joints[k].clone();
+        // The slot keeps an unsolved stand-in until it is reused.
+        self.joints[k].kind = JointKind::Filter;
+        self.joints[k].collide_connected = true;
+        let (a, b) = (joint.body_a, joint.body_b);
+        for body in [a, b] {
+            self.wake_body(body);
+        }
+        if joint.links_islands() && self.is_dynamic(a) && self.is_dynamic(b) {
+            self.islands.unlink(a, b);
+        }
+        if !joint.collide_connected {
+            let key = pair_key(a, b);
+            if let Some(n) = self.no_collide.get_mut(&key) {
+                *n -= 1;
+                if *n == 0 {
+                    self.no_collide.remove(&key);
+                }
+            }
+            // Their shapes look for each other again.
+            self.refresh_shape_boxes(a);
+            self.refresh_shape_boxes(b);
+        }
+        self.joint_slots.release(k as u32);
+    }
+
+    /// Destroys every joint of `body` (which is about to go).
+    pub(super) fn destroy_joints_of(&mut self, body: u32) {
+        for k in 0..self.joints.len() {
+            let j = &self.joints[k];
+            if self.joint_slots.is_alive(k) && (j.body_a == body || j.body_b == body) {
+                self.remove_joint(k);
+            }
+        }
+    }
+
+    /// Joints in the world.
+    pub fn joint_count(&self) -> usize {
+        self.joint_slots.live()
+    }
+
+    /// Every joint's id, in slot order.
+    pub fn joint_ids(&self) -> impl Iterator<Item = JointId> + '_ {
+        (0..self.joints.len())
+            .filter(|&k| self.joint_slots.is_alive(k))
+            .map(|k| JointId {
+                index: k as u32,
+                generation: self.joint_slots.generation(k),
+            })
+    }
+
+    /// A joint: its bodies, frames, settings and impulses.
+    pub fn joint(&self, id: JointId) -> Result<&Joint, WorldError> {
+        Ok(&self.joints[self.joint_slot(id)?])
+    }
+
+    /// A joint's type and settings, to change between steps (a motor's speed, a limit);
+    /// its bodies wake.
+    pub fn joint_kind_mut(&mut self, id: JointId) -> Result<&mut JointKind, WorldError> {
+        let k = self.joint_slot(id)?;
+        let (a, b) = (self.joints[k].body_a, self.joints[k].body_b);
+        self.wake_body(a);
+        self.wake_body(b);
+        Ok(&mut self.joints[k].kind)
+    }
+
+    /// The force (N, on body B) and torque (N·m) the joint applied in the last step.
+    pub fn joint_reaction(&self, id: JointId) -> Result<(Vec2, f32), WorldError> {
+        Ok(self.joints[self.joint_slot(id)?].reaction(self.last_inv_h))
+    }
+
+    /// The joint's anchors in the world now: on body A and on body B (for a mouse joint,
+    /// the target and the dragged point).
+    pub fn joint_anchors(&self, id: JointId) -> Result<[Vec2; 2], WorldError> {
+        let j = &self.joints[self.joint_slot(id)?];
+        let on_b = self.body_frame(j.body_b as usize).apply(j.local_b.p);
+        let on_a = match &j.kind {
+            JointKind::Mouse(m) => m.target,
+            _ => self.body_frame(j.body_a as usize).apply(j.local_a.p),
+        };
+        Ok([on_a, on_b])
+    }
+
+    /// Prepare of the joints (reads bodies' poses and masses; writes each awake joint's
+    /// step data): lists the awake joints in slot order for the colouring, and prepares each
+    /// in parallel, each writing only itself.
+    #[allow(unsafe_code)]
+    pub(super) fn prepare_joints(&mut self, h: f32, spread: Spread<'_>, min: usize) {
+        self.joint_list.clear();
+        if self.joint_slots.live() == 0 {
+            return;
+        }
+        let awake_dynamic = |i: u32| {
+            let i = i as usize;
+            self.sims[i].kind == BodyKind::Dynamic && self.awake[i]
+        };
+        for (k, j) in self.joints.iter().enumerate() {
+            if !self.joint_slots.is_alive(k) || !j.solved() {
+                continue;
+            }
+            let mouse = matches!(j.kind, JointKind::Mouse(_));
+            let (a, b) = (j.body_a, j.body_b);
+            if !(awake_dynamic(b) || (!mouse && awake_dynamic(a))) {
+                continue;
+            }
+            let side = |i: u32| {
+                if self.solver_bodies[i as usize].dynamic {
+                    i
+                } else {
+                    NOT_DYNAMIC
+                }
+            };
+            self.joint_list.push(Touching {
+                contact: k as u32,
+                dynamic: [if mouse { NOT_DYNAMIC } else { side(a) }, side(b)],
+            });
+        }
+        let ctx = JointContext {
+            h,
+            inv_h: 1.0 / h,
+            warm_starting: self.settings.warm_starting,
+        };
+        let (sims, records, masses) = (&self.sims, &self.records, &self.solver_bodies);
+        let body = |i: u32| {
+            let i = i as usize;
+            JointBody {
+                center: sims[i].xf.p,
+                q: sims[i].xf.q,
+                local_center: records[i].local_center,
+                inv_mass: masses[i].inv_mass,
+                inv_inertia: masses[i].inv_inertia,
+                dynamic: masses[i].dynamic,
+            }
+        };
+        let list = &self.joint_list;
+        // The awake joints are few or most: walk the list's slots, each written once.
+        let joints = crate::parallel::SharedSlice::new(&mut self.joints);
+        for_each_part(spread, list.as_slice(), min, &|_, part: &[Touching]| {
+            for t in part {
+                // SAFETY: each slot is on the list once, and the parts are disjoint.
+                let j = unsafe { joints.at_mut(t.contact) };
+                let (a, b) = (body(j.body_a), body(j.body_b));
+                j.prepare(&a, &b, &ctx);
+            }
+        });
+    }
+}
+
+impl Joint {
+    /// Whether it joins its bodies' islands (a filter only keeps them apart; a mouse joint
+    /// names one body).
+    pub(crate) fn links_islands(&self) -> bool {
+        !matches!(self.kind, JointKind::Filter | JointKind::Mouse(_))
+    }
+}
