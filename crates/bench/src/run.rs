@@ -68,7 +68,7 @@ struct Report {
     /// Bodies the engine's NaN guard had to stop over the whole run (CONTRACT.md section 6):
     /// 0 in a healthy run.
     non_finite_bodies: u64,
-    /// Joints in the world (CONTRACT.md section 6; tumble has none yet).
+    /// Joints in the world after the last step (CONTRACT.md section 6).
     joints: usize,
     /// Bodies awake after the last step.
     awake_bodies: usize,
@@ -209,7 +209,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
         profile: Profile(profile),
         contacts: world.contact_count(),
         non_finite_bodies: world.non_finite_bodies(),
-        joints: 0,
+        joints: world.joint_count(),
         awake_bodies: world.awake_body_count(),
         islands: {
             let (all, awake) = world.island_counts();

@@ -12,7 +12,8 @@
 
 use std::f32::consts::PI;
 
-use tumble_physics::{BodyDef, BodyKind, PartDef, SceneDef, ShapeDef};
+use tumble_physics::joint::AngularMotor;
+use tumble_physics::{BodyDef, BodyKind, Filter, JointDef, PartDef, SceneDef, ShapeDef};
 
 /// Menu order: a friendly default first, then the hard cases, then the big benchmarks.
 const NAMES: &[&str] = &[
@@ -38,6 +39,7 @@ const NAMES: &[&str] = &[
     "compounds",
     "junkyard",
     "spinner",
+    "joint_grid",
 ];
 
 /// All built-in scene names, in menu order.
@@ -70,6 +72,7 @@ pub fn build(name: &str) -> Option<SceneDef> {
         "compounds" => compounds(),
         "junkyard" => junkyard(),
         "spinner" => spinner(),
+        "joint_grid" => joint_grid(),
         _ => return None,
     };
     // Box2D's benchmark turns sleeping off in its pyramids and keeps it on in smash,
@@ -82,7 +85,7 @@ pub fn build(name: &str) -> Option<SceneDef> {
 }
 
 /// The built-ins that sleep (as Box2D's benchmark builds them).
-const SLEEPING: &[&str] = &["smash", "compounds", "junkyard", "spinner"];
+const SLEEPING: &[&str] = &["smash", "compounds", "junkyard", "spinner", "tumbler"];
 
 /// What a built-in does between steps (Box2D's benchmark `Step*` functions): the steps taken
 /// so far, and the world to change. Scenes without one return `None` from [`script`].
@@ -170,8 +173,8 @@ pub fn describe(name: &str) -> Option<&'static str> {
         }
         "spinner" => {
             "Benchmark: 6076 capsules, circles and squares in a 40 m ring (a loop chain), stirred by a 40 m rounded paddle at 5 rad/s (Box2D's spinner). \
-             Box2D turns the paddle by a revolute motor; until tumble has joints it is kinematic at the motor's speed. \
-             Tests chains, capsules and rounded boxes under a dense, churning load."
+             The paddle is dynamic, turned by a revolute motor of unbounded torque, as Box2D's. \
+             Tests chains, capsules, rounded boxes and a motor under a dense, churning load."
         }
         "smash" => {
             "Benchmark: a heavy 8 m block at 40 m/s smashes into a 120 x 80 wall of 9600 small boxes that start asleep, no gravity (Box2D's smash). \
@@ -186,8 +189,12 @@ pub fn describe(name: &str) -> Option<&'static str> {
              Tests a kinematic body driven to a target each step, and waking."
         }
         "tumbler" => {
-            "Benchmark: 2025 small boxes in a 20 m box (Box2D's tumbler). Unlike Box2D, whose container is \
-             jointed and turns at 25 deg/s, this container is static (one shape per body, no joints), so the boxes fall and settle."
+            "Benchmark: 2025 small boxes in a 20 m box of four heavy walls that a revolute motor turns at 25 deg/s (Box2D's tumbler). \
+             Tests a motor driving a heavy body of several shapes against a churning pile."
+        }
+        "joint_grid" => {
+            "Benchmark: a 100 x 100 grid of discs joined by 19794 revolute joints, hung from 7 static discs, no contacts (Box2D's joint_grid). \
+             Tests joint throughput and the stretch of a large joint network under gravity."
         }
         _ => return None,
     })
@@ -981,12 +988,36 @@ fn junkyard_step(steps: u64, world: &mut tumble_physics::World) {
 fn tumbler() -> SceneDef {
     let mut scene = SceneDef::new("tumbler");
     scene.steps = 750;
+    // Box2D's ground body has no shape; a scene's body needs one, so this anchor carries a
+    // small disc 1 km below, where nothing reaches it.
+    scene.push(
+        BodyDef::new(circle(0.1))
+            .kind(BodyKind::Static)
+            .at(0.0, -1000.0),
+    );
     let (cx, cy) = (0.0, 10.0);
-    let wall = |hx: f32, hy: f32, x: f32, y: f32| static_box(hx, hy, cx + x, cy + y).density(50.0);
-    scene.push(wall(0.5, 10.0, 10.0, 0.0));
-    scene.push(wall(0.5, 10.0, -10.0, 0.0));
-    scene.push(wall(10.0, 0.5, 0.0, 10.0));
-    scene.push(wall(10.0, 0.5, 0.0, -10.0));
+    let wall =
+        |hx: f32, hy: f32, x: f32, y: f32| PartDef::new(rect(hx, hy)).at(x, y, 0.0).density(50.0);
+    let drum = scene.push(
+        BodyDef::compound(vec![
+            wall(0.5, 10.0, 10.0, 0.0),
+            wall(0.5, 10.0, -10.0, 0.0),
+            wall(10.0, 0.5, 0.0, 10.0),
+            wall(10.0, 0.5, 0.0, -10.0),
+        ])
+        .at(cx, cy),
+    );
+    scene.joints.push(JointDef::Revolute {
+        bodies: [0, drum],
+        anchor: [cx, cy],
+        limit: None,
+        motor: Some(AngularMotor {
+            speed: 25.0f32.to_radians(),
+            max_torque: 1e8,
+        }),
+        spring: None,
+        collide_connected: false,
+    });
     let grid_count = 45;
     let mut y = -0.2 * grid_count as f32 + 10.0;
     for _ in 0..grid_count {
@@ -1000,13 +1031,65 @@ fn tumbler() -> SceneDef {
     scene
 }
 
+/// Box2D `CreateJointGrid`: a 100 x 100 grid of discs (radius 0.4, density 1) 1 m apart,
+/// column k at x = k, row i at y = -i, each joined to the one above and the one to its left
+/// by a revolute joint halfway between them; the top discs of the 7 middle columns are
+/// static; the discs' filter (category 2, mask all but 2) keeps them from touching; 500
+/// steps, sleeping off. Box2D also joins the static discs to each other, six joints that
+/// move nothing; a scene refuses a joint between bodies that cannot move, so they are left
+/// out (19794 joints).
+fn joint_grid() -> SceneDef {
+    let mut scene = SceneDef::new("joint_grid");
+    scene.steps = 500;
+    const N: usize = 100;
+    let filter = Filter {
+        category: 2,
+        mask: !2,
+        group: 0,
+    };
+    for k in 0..N {
+        for i in 0..N {
+            let fixed = (N / 2 - 3..=N / 2 + 3).contains(&k) && i == 0;
+            let kind = if fixed {
+                BodyKind::Static
+            } else {
+                BodyKind::Dynamic
+            };
+            let (x, y) = (k as f32, -(i as f32));
+            let body = scene.push(
+                BodyDef::new(circle(0.4))
+                    .kind(kind)
+                    .at(x, y)
+                    .density(1.0)
+                    .filter(filter),
+            );
+            let hinge = |bodies: [usize; 2], anchor: [f32; 2]| JointDef::Revolute {
+                bodies,
+                anchor,
+                limit: None,
+                motor: None,
+                spring: None,
+                collide_connected: false,
+            };
+            if i > 0 {
+                scene.joints.push(hinge([body - 1, body], [x, y + 0.5]));
+            }
+            let left_fixed = k > 0 && (N / 2 - 3..=N / 2 + 3).contains(&(k - 1)) && i == 0;
+            if k > 0 && !(fixed && left_fixed) {
+                scene.joints.push(hinge([body - N, body], [x - 0.5, y]));
+            }
+        }
+    }
+    scene
+}
+
 /// Box2D `CreateSpinner`: a loop chain of 360 points, a circle of radius 40 centred at
 /// (0, 32), walked clockwise so it keeps things inside (friction 0.1); a paddle, a box of half
 /// extents 0.4 x 20 rounded by 0.2 (friction 0), spinning at 5 rad/s about (0, 12); and 6076
 /// bodies in rows from (-23, 2), 0.5 m apart, in turn a capsule (core ±0.25, radius 0.25), a
 /// circle of radius 0.35 and a square of half size 0.35 (density 0.25, friction 0.1,
-/// restitution 0.1); 500 steps. Box2D turns the paddle with a revolute motor of unbounded
-/// torque; until tumble has joints it is kinematic at the motor's speed.
+/// restitution 0.1); 500 steps. The paddle is dynamic (density 1, never sleeping), turned
+/// by a revolute motor at 5 rad/s of unbounded torque about its centre.
 fn spinner() -> SceneDef {
     let mut scene = SceneDef::new("spinner");
     scene.steps = 500;
@@ -1030,12 +1113,21 @@ fn spinner() -> SceneDef {
         half_extents: [0.4, 20.0],
         radius: 0.2,
     })
-    .kind(BodyKind::Kinematic)
     .at(0.0, 12.0)
     .friction(0.0);
-    paddle.angular_velocity = 5.0;
     paddle.enable_sleep = false;
-    scene.push(paddle);
+    let paddle = scene.push(paddle);
+    scene.joints.push(JointDef::Revolute {
+        bodies: [0, paddle],
+        anchor: [0.0, 12.0],
+        limit: None,
+        motor: Some(AngularMotor {
+            speed: 5.0,
+            max_torque: f32::MAX,
+        }),
+        spring: None,
+        collide_connected: false,
+    });
     let capsule = ShapeDef::Capsule {
         center1: [-0.25, 0.0],
         center2: [0.25, 0.0],
@@ -1075,7 +1167,7 @@ mod tests {
 
     #[test]
     fn every_name_builds_describes_and_validates() {
-        assert_eq!(names().len(), 22);
+        assert_eq!(names().len(), 23);
         for &name in names() {
             let scene = build(name).unwrap_or_else(|| panic!("{name} does not build"));
             assert_eq!(scene.name, name);
@@ -1111,9 +1203,10 @@ mod tests {
             ("large_pyramid", 5050, 1),
             ("pyramid", 210, 1),
             ("many_pyramids", 22_000, 1),
-            ("spinner", 6076, 1),
+            ("spinner", 6077, 1),
+            ("joint_grid", 9993, 7),
             ("smash", 9601, 0),
-            ("tumbler", 2025, 4),
+            ("tumbler", 2026, 1),
             ("vertical_stack", 15, 2),
             ("card_house", 40, 1),
             ("arch", 21, 1),
@@ -1133,8 +1226,7 @@ mod tests {
             let scene = build(name).unwrap();
             assert_eq!(count(&scene, BodyKind::Dynamic), dynamic, "{name} dynamic");
             assert_eq!(count(&scene, BodyKind::Static), fixed, "{name} static");
-            // spinner's paddle is kinematic until tumble has joints.
-            let kinematic = usize::from(name == "spinner");
+            let kinematic = 0;
             assert_eq!(
                 count(&scene, BodyKind::Kinematic),
                 kinematic,
@@ -1145,6 +1237,21 @@ mod tests {
                 dynamic + fixed + kinematic,
                 "{name} total"
             );
+        }
+    }
+
+    #[test]
+    fn joint_counts_match_box2d() {
+        // joint_grid: 100 columns of 99 vertical joints, 99 columns of 100 horizontal ones,
+        // less the 6 between static discs.
+        for (name, joints) in [
+            ("joint_grid", 2 * 100 * 99 - 6),
+            ("tumbler", 1),
+            ("spinner", 1),
+        ] {
+            let scene = build(name).unwrap();
+            assert_eq!(scene.joints.len(), joints, "{name}");
+            scene.validate(&Limits::default()).expect(name);
         }
     }
 

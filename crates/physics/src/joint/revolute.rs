@@ -65,7 +65,12 @@ impl Revolute {
 
     pub(super) fn solve(&mut self, s: &JointStep, p: &mut Pair, ctx: &JointContext, bias: bool) {
         let fixed_rotation = s.inv_i_a + s.inv_i_b == 0.0;
-        let angle = relative_angle(s, p);
+        // The angle costs an arctangent: only the spring and the limit read it.
+        let angle = if self.spring.is_some() || self.limit.is_some() {
+            relative_angle(s, p)
+        } else {
+            0.0
+        };
         if self.spring.is_some() && !fixed_rotation {
             // A real spring: it acts in the relax pass too.
             let c = unwind(angle - self.target_angle);

@@ -21,7 +21,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use glam::Vec2;
 
 use crate::collision::Manifold;
-use crate::joint::{Joint, JointContext};
+use crate::joint::{Joint, JointBody, JointContext};
 use crate::math::dot;
 use crate::parallel::{
     BodyStates, SharedSlice, Spread, StageBoard, for_each_part, for_parts, worker_range,
@@ -121,6 +121,10 @@ pub struct Solver {
     pub joint_order: Vec<u32>,
     /// See `joint_order`.
     pub joint_ranges: Vec<Range<usize>>,
+    /// This step's copies of the awake joints, in stage order (`joint_order`), prepared: the
+    /// passes stream through them as they do through the contact constraints, and
+    /// [`Solver::store_joints`] writes them back.
+    solver_joints: Vec<Joint>,
     /// The joints (slot and dynamic pair) the colouring was computed for.
     colored_joints: Vec<(u32, [u32; 2])>,
     /// Whether any constraint of this step has restitution.
@@ -433,6 +437,56 @@ impl Solver {
         );
     }
 
+    /// Copies the awake joints into stage order and prepares each (after
+    /// [`Solver::prepare`], which coloured them): `joints` by slot, `body(i)` what a joint
+    /// reads of body `i`. Over `spread` where there are `min` joints a worker.
+    pub fn prepare_joints(
+        &mut self,
+        joints: &[Joint],
+        body: &(dyn Fn(u32) -> JointBody + Sync),
+        ctx: &JointContext,
+        spread: Spread<'_>,
+        min: usize,
+    ) {
+        let order = &self.joint_order;
+        self.solver_joints
+            .resize_with(order.len(), || joints[0].clone());
+        for_each_part(
+            spread,
+            &mut self.solver_joints[..],
+            min,
+            &|offset, part: &mut [Joint]| {
+                for (k, j) in part.iter_mut().enumerate() {
+                    j.clone_from(&joints[order[offset + k] as usize]);
+                    let (a, b) = (body(j.body_a), body(j.body_b));
+                    j.prepare(&a, &b, ctx);
+                }
+            },
+        );
+    }
+
+    /// Writes this step's joints (their impulses, for the next warm start, and their step
+    /// data, for reaction forces) back to their slots in `joints`.
+    #[allow(unsafe_code)]
+    pub fn store_joints(&self, joints: &mut [Joint], spread: Spread<'_>, min: usize) {
+        let order = &self.joint_order;
+        let out = SharedSlice::new(joints);
+        for_each_part(
+            spread,
+            &self.solver_joints[..],
+            min,
+            &|offset, part: &[Joint]| {
+                for (k, j) in part.iter().enumerate() {
+                    // SAFETY: each slot is in `joint_order` once; the parts are disjoint.
+                    let slot = unsafe { out.at_mut(order[offset + k]) };
+                    // Only the impulses (in the kind) and the step data changed.
+                    slot.kind.clone_from(&j.kind);
+                    slot.step = j.step;
+                }
+            },
+        );
+    }
+
     /// Colours the joints (the first part of [`Solver::color`]) and lays out their stage
     /// order: the overflow's first, then each colour's, each in slot order.
     fn color_joints(&mut self, joints: &[Touching]) {
@@ -591,7 +645,6 @@ impl Solver {
     /// `moving` lists the bodies that move (each once; the body stages walk only them).
     pub fn run_substeps(
         &mut self,
-        joints: &mut [Joint],
         states: &mut [BodyState],
         motion: &[BodyMotion],
         moving: &[u32],
@@ -609,7 +662,9 @@ impl Solver {
         let mut plan = std::mem::take(&mut self.plan);
         self.plan_into(&mut plan, moving.len(), step, workers);
         let bodies = Bodies { motion, moving };
-        let result = self.run_plan(&plan, joints, states, &bodies, step, spread, workers);
+        let mut joints = std::mem::take(&mut self.solver_joints);
+        let result = self.run_plan(&plan, &mut joints, states, &bodies, step, spread, workers);
+        self.solver_joints = joints;
         self.plan = plan;
         result
     }
@@ -633,7 +688,6 @@ impl Solver {
             use_wide: self.use_wide,
             use_avx: self.use_avx,
             joints: SharedSlice::new(joints),
-            joint_order: &self.joint_order,
         };
         if workers == 1 {
             let states = BodyStates::exclusive(states);
@@ -903,11 +957,10 @@ struct Passes<'a> {
     use_wide: bool,
     use_avx: bool,
     joints: SharedSlice<'a, Joint>,
-    joint_order: &'a [u32],
 }
 
 impl Passes<'_> {
-    /// Runs `stage`'s pass over the joints `range` of `joint_order`.
+    /// Runs `stage`'s pass over the joints `range` (of the solver's stage-ordered copies).
     #[allow(unsafe_code)]
     fn run_joints(
         &self,
@@ -921,11 +974,9 @@ impl Passes<'_> {
             inv_h: 1.0 / p.h,
             warm_starting: true,
         };
-        for &j in &self.joint_order[range] {
-            // SAFETY: each joint is in `joint_order` once, and the blocks of a stage are
-            // disjoint ranges of it; its bodies are written by no other block of the stage
-            // (the colouring).
-            let joint = unsafe { self.joints.at_mut(j) };
+        // SAFETY: the blocks of a stage are disjoint ranges of the joints, whose bodies no
+        // other block of the stage writes (the colouring).
+        for joint in unsafe { self.joints.range_mut(range) } {
             match stage.pass {
                 Pass::WarmStart => joint.warm_start(states),
                 Pass::Solve => joint.solve(states, &ctx, true),

@@ -9,7 +9,7 @@ use crate::id::{BodyId, JointId};
 use crate::joint::def::JointFrame;
 use crate::joint::{Joint, JointBody, JointContext, JointDef, JointKind, Mouse};
 use crate::math::Transform;
-use crate::parallel::{Spread, for_each_part};
+use crate::parallel::Spread;
 use crate::scene::BodyKind;
 use crate::solver::{NOT_DYNAMIC, Touching};
 
@@ -243,11 +243,9 @@ impl World {
         Ok([on_a, on_b])
     }
 
-    /// Prepare of the joints (reads bodies' poses and masses; writes each awake joint's
-    /// step data): lists the awake joints in slot order for the colouring, and prepares each
-    /// in parallel, each writing only itself.
-    #[allow(unsafe_code)]
-    pub(super) fn prepare_joints(&mut self, h: f32, spread: Spread<'_>, min: usize) {
+    /// Lists the awake joints in slot order, with their dynamic bodies, for the colouring
+    /// (reads the joints and the bodies' kinds and awake flags).
+    pub(super) fn list_awake_joints(&mut self) {
         self.joint_list.clear();
         if self.joint_slots.live() == 0 {
             return;
@@ -277,6 +275,14 @@ impl World {
                 dynamic: [if mouse { NOT_DYNAMIC } else { side(a) }, side(b)],
             });
         }
+    }
+
+    /// After the colouring: copies the awake joints into the solver in stage order and
+    /// prepares them there (reads bodies' poses and masses; each copy written once).
+    pub(super) fn prepare_solver_joints(&mut self, h: f32, spread: Spread<'_>, min: usize) {
+        if self.joint_list.is_empty() {
+            return;
+        }
         let ctx = JointContext {
             h,
             inv_h: 1.0 / h,
@@ -294,17 +300,8 @@ impl World {
                 dynamic: masses[i].dynamic,
             }
         };
-        let list = &self.joint_list;
-        // The awake joints are few or most: walk the list's slots, each written once.
-        let joints = crate::parallel::SharedSlice::new(&mut self.joints);
-        for_each_part(spread, list.as_slice(), min, &|_, part: &[Touching]| {
-            for t in part {
-                // SAFETY: each slot is on the list once, and the parts are disjoint.
-                let j = unsafe { joints.at_mut(t.contact) };
-                let (a, b) = (body(j.body_a), body(j.body_b));
-                j.prepare(&a, &b, &ctx);
-            }
-        });
+        self.solver
+            .prepare_joints(&self.joints, &body, &ctx, spread, min);
     }
 }
 

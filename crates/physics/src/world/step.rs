@@ -490,7 +490,7 @@ impl World {
                 .extend((0..keys.len() as u32).filter_map(touching_at));
         }
         profile.touching = self.touching.len();
-        self.prepare_joints(h, spread, self.wide.prepare);
+        self.list_awake_joints();
         self.last_inv_h = inv_h;
         self.solver.use_wide = s.simd;
         self.solver.prepare(
@@ -503,6 +503,7 @@ impl World {
             spread,
             self.wide.prepare,
         );
+        self.prepare_solver_joints(h, spread, self.wide.prepare);
         profile.colors = self.solver.active_colors();
         profile.overflow = self.solver.overflow_count();
         profile.prepare_ms = ms(t);
@@ -523,7 +524,6 @@ impl World {
         let constraints = self.touching.len() + self.joint_list.len();
         let solve_spread = spread.for_stage(constraints, self.wide.solve);
         let (caps, workers) = self.solver.run_substeps(
-            &mut self.joints,
             &mut self.states,
             &self.motion,
             &self.moving,
@@ -547,6 +547,10 @@ impl World {
                 mp.normal_velocity = r.relative_velocity;
             },
         );
+        if !self.joint_list.is_empty() {
+            self.solver
+                .store_joints(&mut self.joints, spread, self.wide.prepare);
+        }
         profile.store_impulses_ms = ms(t);
     }
 
