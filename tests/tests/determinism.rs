@@ -1,7 +1,9 @@
 //! Determinism across thread counts: the same scene stepped on 1, 2, 3 and 4 threads, and with
 //! the thread count changed mid-run, ends in bit-identical states.
 
-use tumble_physics::{BodyDef, BodyKind, SceneDef, ShapeDef, StepSettings, WideThresholds, World};
+use tumble_physics::{
+    BodyDef, BodyKind, JointDef, SceneDef, ShapeDef, StepSettings, WideThresholds, World,
+};
 use tumble_tests::{all_finite, world};
 
 const STEPS: u32 = 240;
@@ -350,6 +352,176 @@ fn the_new_shapes_are_bit_identical_on_1_to_4_real_workers() {
             scene.name,
             one.contacts
         );
+        for workers in 2..=4 {
+            let (other, _) = run_workers_with(scene, steps, workers, false);
+            assert_same(&one, &other);
+        }
+    }
+}
+
+/// Every joint type in one scene, sleeping on: a chain of 10 links on revolute joints (the
+/// first with a limit, the second with a spring), a slider on a prismatic motor, a cart on two
+/// wheel joints driven by a motor, a rope and a spring on distance joints, a soft weld, a
+/// motor joint, a filter joint, and a hub tied by 30 distance joints to 30 balls around it:
+/// more joints on one body than there are colours, so some go to the overflow.
+fn every_joint() -> SceneDef {
+    use tumble_physics::joint::{AngularMotor, LinearMotor, Spring};
+    let mut scene = SceneDef::new("every_joint");
+    let rect = |hx: f32, hy: f32| ShapeDef::Box {
+        half_extents: [hx, hy],
+        radius: 0.0,
+    };
+    let ball = |r: f32| ShapeDef::Circle { radius: r };
+    let ground = scene.push(BodyDef::new(rect(50.0, 0.5)).kind(BodyKind::Static).at(0.0, -0.5));
+    let hinge = |bodies, anchor| JointDef::Revolute {
+        bodies,
+        anchor,
+        limit: None,
+        motor: None,
+        spring: None,
+        collide_connected: false,
+    };
+    // The chain, hanging sideways from (−20, 12) so it swings.
+    let mut prev = ground;
+    for k in 0..10 {
+        let x = -20.0 + 0.5 + k as f32;
+        let link = scene.push(BodyDef::new(rect(0.5, 0.1)).at(x, 12.0));
+        let mut joint = hinge([prev, link], [x - 0.5, 12.0]);
+        if let JointDef::Revolute { limit, spring, .. } = &mut joint {
+            match k {
+                1 => *limit = Some([-0.5, 0.5]),
+                2 => {
+                    *spring = Some(Spring {
+                        hertz: 2.0,
+                        damping_ratio: 0.3,
+                    })
+                }
+                _ => {}
+            }
+        }
+        scene.joints.push(joint);
+        prev = link;
+    }
+    // A slider driven up a 30° rail.
+    let slider = scene.push(BodyDef::new(rect(0.3, 0.3)).at(-5.0, 5.0));
+    let (c, s) = (30f32.to_radians().cos(), 30f32.to_radians().sin());
+    scene.joints.push(JointDef::Prismatic {
+        bodies: [ground, slider],
+        anchor: [-5.0, 5.0],
+        axis: [c, s],
+        limit: Some([-2.0, 2.0]),
+        motor: Some(LinearMotor {
+            speed: 1.0,
+            max_force: 50.0,
+        }),
+        spring: None,
+        collide_connected: false,
+    });
+    // A cart on two wheels, driven.
+    let chassis = scene.push(BodyDef::new(rect(1.0, 0.25)).at(0.0, 1.2));
+    for x in [-0.7f32, 0.7] {
+        let wheel = scene.push(BodyDef::new(ball(0.4)).at(x, 0.6).friction(0.9));
+        scene.joints.push(JointDef::Wheel {
+            bodies: [chassis, wheel],
+            anchor: [x, 0.6],
+            axis: [0.0, 1.0],
+            limit: Some([-0.2, 0.2]),
+            motor: Some(AngularMotor {
+                speed: -4.0,
+                max_torque: 20.0,
+            }),
+            spring: Some(Spring {
+                hertz: 4.0,
+                damping_ratio: 0.7,
+            }),
+            collide_connected: false,
+        });
+    }
+    // A rope and a spring from the ground, a soft weld, a motor joint and a filter joint.
+    let on_rope = scene.push(BodyDef::new(ball(0.3)).at(8.0, 6.0));
+    scene.joints.push(JointDef::Distance {
+        bodies: [ground, on_rope],
+        anchors: [[6.0, 8.0], [8.0, 6.0]],
+        length: Some(3.0),
+        limit: Some([0.0, 3.0]),
+        spring: Some(Spring {
+            hertz: 0.0,
+            damping_ratio: 0.0,
+        }),
+        collide_connected: false,
+    });
+    let on_spring = scene.push(BodyDef::new(ball(0.3)).at(10.0, 6.0));
+    scene.joints.push(JointDef::Distance {
+        bodies: [ground, on_spring],
+        anchors: [[10.0, 8.0], [10.0, 6.0]],
+        length: None,
+        limit: None,
+        spring: Some(Spring {
+            hertz: 3.0,
+            damping_ratio: 0.2,
+        }),
+        collide_connected: false,
+    });
+    let welded = scene.push(BodyDef::new(rect(0.5, 0.5)).at(12.5, 4.0));
+    scene.joints.push(JointDef::Weld {
+        bodies: [on_spring, welded],
+        anchor: [11.0, 5.0],
+        linear_hertz: 5.0,
+        angular_hertz: 3.0,
+        linear_damping_ratio: 0.7,
+        angular_damping_ratio: 0.7,
+        collide_connected: false,
+    });
+    let driven = scene.push(BodyDef::new(rect(0.4, 0.4)).at(15.0, 3.0));
+    scene.joints.push(JointDef::Motor {
+        bodies: [ground, driven],
+        linear_offset: Some([16.0, 4.5]),
+        angular_offset: Some(1.0),
+        max_force: 200.0,
+        max_torque: 50.0,
+        correction_factor: 0.3,
+        collide_connected: false,
+    });
+    let apart = scene.push(BodyDef::new(rect(0.4, 0.4)).at(15.0, 0.4));
+    scene.joints.push(JointDef::Filter {
+        bodies: [driven, apart],
+    });
+    // The hub and its 30 balls.
+    let hub = scene.push(BodyDef::new(ball(1.0)).at(25.0, 8.0));
+    for k in 0..30 {
+        let a = k as f32 * std::f32::consts::TAU / 30.0;
+        let p = [25.0 + 2.5 * a.cos(), 8.0 + 2.5 * a.sin()];
+        let b = scene.push(BodyDef::new(ball(0.2)).at(p[0], p[1]));
+        scene.joints.push(JointDef::Distance {
+            bodies: [hub, b],
+            anchors: [[25.0, 8.0], p],
+            length: None,
+            limit: None,
+            spring: None,
+            collide_connected: false,
+        });
+    }
+    scene
+}
+
+#[test]
+fn joints_are_bit_identical_on_1_to_4_real_workers() {
+    // joint_grid: 19794 joints, solved on every worker (strict); 40 steps. tumbler: the
+    // motor-driven drum churning 2025 boxes, 60 steps. every_joint: each joint type, an
+    // overflow of joints, sleeping on, 240 steps (4 s: the chain and the springs settle).
+    let grid = tumble_scene::builtin::build("joint_grid").expect("joint_grid");
+    let (one, _) = run_workers_with(&grid, 40, 1, true);
+    for workers in 2..=4 {
+        let (other, _) = run_workers_with(&grid, 40, workers, true);
+        assert_same(&one, &other);
+    }
+    let tumbler = tumble_scene::builtin::build("tumbler").expect("tumbler");
+    let every = every_joint();
+    for (scene, steps) in [(&tumbler, 60), (&every, 240)] {
+        let (one, overflow) = run_workers_with(scene, steps, 1, false);
+        if scene.name == "every_joint" {
+            assert!(overflow > 0, "the hub's joints reach the overflow");
+        }
         for workers in 2..=4 {
             let (other, _) = run_workers_with(scene, steps, workers, false);
             assert_same(&one, &other);

@@ -119,12 +119,19 @@ impl World {
         };
         let all = Spread::over(crew);
         let (w, contacts) = (&self.wide, self.contact_keys.len());
+        // Joints are constraints as contacts are (last step's awake ones; the first step
+        // counts every joint).
+        let joints = if self.steps == 0 {
+            self.joint_slots.live()
+        } else {
+            self.joint_list.len()
+        };
         let split = all.goes_wide(self.moved.len(), w.broad_phase)
             || all.goes_wide(contacts, w.narrow_phase)
-            || all.goes_wide(self.touching.len(), w.prepare.min(w.solve))
+            || all.goes_wide(self.touching.len() + joints, w.prepare.min(w.solve))
             || all.goes_wide(self.sims.len(), w.finalize);
         // A new scene's first step has no contacts yet, but its moved proxies will make them.
-        split && all.goes_wide(contacts + self.moved.len(), w.step)
+        split && all.goes_wide(contacts + self.moved.len() + joints, w.step)
     }
 
     /// Broad phase (reads fat boxes, filters, bodies' kinds; writes contacts and pairs):
