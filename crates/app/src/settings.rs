@@ -38,6 +38,8 @@ pub struct DebugDraw {
     pub color_by_speed: bool,
     /// Colour dynamic bodies by their island (over colour by speed).
     pub islands: bool,
+    /// Each joint's reaction force at its anchor on body B, and its torque as an arc.
+    pub joint_forces: bool,
 }
 
 /// Everything the viewer remembers.

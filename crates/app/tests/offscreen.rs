@@ -264,6 +264,7 @@ fn debug_lines_are_one_more_draw_call_and_buffers_grow_geometrically() {
         grid: true,
         color_by_speed: false,
         islands: false,
+        joint_forces: true,
     };
     let (image, renderer) = render(&gpu, &sim, &cam, &debug);
     // Polygons and lines; no circles in this scene.
@@ -441,4 +442,46 @@ fn capsules_and_rounded_boxes_are_round_and_segments_are_lines() {
         column.iter().any(|p| !close(*p, background, 12)),
         "no line at the segment: {column:?}"
     );
+}
+
+#[test]
+fn joints_are_drawn_between_their_anchors() {
+    use tumble_physics::JointDef;
+    let gpu = gpu();
+    // Two discs 6 m apart on a distance joint, no gravity: the joint's line crosses x = 0 at
+    // y = 0, where there is no body.
+    let mut scene = SceneDef::new("joined");
+    scene.gravity = [0.0, 0.0];
+    let a = scene.push(BodyDef::new(ShapeDef::Circle { radius: 0.3 }).at(-3.0, 0.0));
+    let b = scene.push(BodyDef::new(ShapeDef::Circle { radius: 0.3 }).at(3.0, 0.0));
+    scene.joints.push(JointDef::Distance {
+        bodies: [a, b],
+        anchors: [[-3.0, 0.0], [3.0, 0.0]],
+        length: None,
+        limit: None,
+        spring: None,
+        collide_connected: false,
+    });
+    let sim = Sim::new(Arc::new(scene), 1).unwrap();
+    let cam = Camera::new(Vec2::ZERO, 25.0, Vec2::new(WIDTH as f32, HEIGHT as f32));
+    let (image, renderer) = render(&gpu, &sim, &cam, &DebugDraw::default());
+    let [circles, _, lines] = renderer.counts();
+    assert_eq!(circles, 2);
+    assert!(lines > 0, "no joint drawn");
+    let background = to_u8(palette::BACKGROUND);
+    let s = cam.world_to_screen(Vec2::new(0.0, 0.0));
+    let column: Vec<[u8; 4]> = (s.y as u32 - 2..=s.y as u32 + 2)
+        .map(|y| image.get(s.x as u32, y))
+        .collect();
+    assert!(
+        column.iter().any(|p| !close(*p, background, 12)),
+        "no line along the joint: {column:?}"
+    );
+    // Half way up the screen's left edge nothing is drawn: the line is the joint's.
+    let edge = cam.world_to_screen(Vec2::new(0.0, 5.0));
+    assert!(close(
+        image.get(edge.x as u32, edge.y as u32),
+        background,
+        12
+    ));
 }

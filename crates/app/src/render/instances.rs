@@ -512,6 +512,44 @@ impl Instances {
         }
     }
 
+    /// Every joint but the mouse's (drawn by [`Instances::add_drag`]), as Box2D draws them:
+    /// body A's centre to its anchor, anchor to anchor, body B's anchor to its centre, with a
+    /// marker at each anchor; a distance joint is the line between its anchors. With
+    /// `forces`, each joint's reaction force on B as a line from B's anchor (a pixel per
+    /// newton, at most 100 px).
+    pub fn add_joints(&mut self, world: &World, forces: bool, camera: &Camera) {
+        use tumble_physics::JointKind;
+        let px = 1.0 / camera.pixels_per_metre;
+        let color = [0.55, 0.85, 0.85, 0.9];
+        for id in world.joint_ids() {
+            let (Ok(joint), Ok([pa, pb])) = (world.joint(id), world.joint_anchors(id)) else {
+                continue;
+            };
+            let (ca, cb) = (
+                world.body(joint.body_a as usize).position,
+                world.body(joint.body_b as usize).position,
+            );
+            match joint.kind {
+                JointKind::Mouse(_) | JointKind::Filter => continue,
+                JointKind::Distance(_) => self.line(pa, pb, color),
+                _ => {
+                    self.line(ca, pa, color);
+                    self.line(pa, pb, color);
+                    self.line(cb, pb, color);
+                }
+            }
+            self.marker(pa, 2.5 * px, color);
+            self.marker(pb, 2.5 * px, color);
+            if forces && let Ok((force, _)) = world.joint_reaction(id) {
+                let len = force.length();
+                if len > 0.0 {
+                    let shown = len.min(100.0) * px;
+                    self.line(pb, pb + force / len * shown, [1.0, 0.6, 0.2, 1.0]);
+                }
+            }
+        }
+    }
+
     /// The held body's spring: a line from its anchor to the pointer.
     pub fn add_drag(&mut self, world: &World, drag: &crate::sim::Drag, camera: &Camera) {
         if drag.body >= world.body_count() || !world.is_body(drag.body) {

@@ -176,6 +176,8 @@ impl SceneRenderer {
                 Coloring::Id
             };
             self.instances.add_bodies(world, coloring, view.dim);
+            self.instances
+                .add_joints(world, debug.joint_forces && view.debug, &camera);
             if view.debug {
                 self.instances.add_debug(world, debug, &camera);
                 if let Some(drag) = &view.sim.drag {

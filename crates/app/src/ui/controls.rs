@@ -213,6 +213,11 @@ fn controls(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared, out: &m
         c[1].checkbox(&mut d.center_of_mass, "Centres of mass");
         c[1].checkbox(&mut d.grid, "Grid");
         c[1].checkbox(&mut d.color_by_speed, "Colour by speed");
+        c[1].checkbox(&mut d.joint_forces, "Joint forces")
+            .on_hover_text(
+                "Each joint's reaction force on its second body (1 px per newton, \
+                            capped), from the last step.",
+            );
     });
 
     ui.separator();
