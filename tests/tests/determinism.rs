@@ -372,7 +372,11 @@ fn every_joint() -> SceneDef {
         radius: 0.0,
     };
     let ball = |r: f32| ShapeDef::Circle { radius: r };
-    let ground = scene.push(BodyDef::new(rect(50.0, 0.5)).kind(BodyKind::Static).at(0.0, -0.5));
+    let ground = scene.push(
+        BodyDef::new(rect(50.0, 0.5))
+            .kind(BodyKind::Static)
+            .at(0.0, -0.5),
+    );
     let hinge = |bodies, anchor| JointDef::Revolute {
         bodies,
         anchor,
@@ -380,6 +384,7 @@ fn every_joint() -> SceneDef {
         motor: None,
         spring: None,
         collide_connected: false,
+        anchor_b: None,
     };
     // The chain, hanging sideways from (−20, 12) so it swings.
     let mut prev = ground;

@@ -13,7 +13,8 @@ const WARMUP_STEPS: u32 = 10;
 /// compounds, junkyard and spinner sleeping, as Box2D's benchmark runs them; junkyard's pusher
 /// driven in every engine; spinner's paddle kinematic in every engine, where Box2D's own
 /// benchmark turns it with a revolute motor).
-const DEFAULT_SCENES: &str = "large_pyramid,many_pyramids,smash,compounds,junkyard,spinner";
+const DEFAULT_SCENES: &str =
+    "large_pyramid,many_pyramids,smash,compounds,junkyard,spinner,joint_grid,tumbler";
 
 /// Most threads the peers take (Box2D's worker count is 1 to 32).
 pub(crate) const MAX_PEER_THREADS: u32 = 32;

@@ -40,6 +40,9 @@ const NAMES: &[&str] = &[
     "junkyard",
     "spinner",
     "joint_grid",
+    "ball_and_chain",
+    "bridge",
+    "stretched_chain",
 ];
 
 /// All built-in scene names, in menu order.
@@ -73,6 +76,9 @@ pub fn build(name: &str) -> Option<SceneDef> {
         "junkyard" => junkyard(),
         "spinner" => spinner(),
         "joint_grid" => joint_grid(),
+        "ball_and_chain" => ball_and_chain(),
+        "bridge" => bridge(),
+        "stretched_chain" => stretched_chain(),
         _ => return None,
     };
     // Box2D's benchmark turns sleeping off in its pyramids and keeps it on in smash,
@@ -191,6 +197,18 @@ pub fn describe(name: &str) -> Option<&'static str> {
         "tumbler" => {
             "Benchmark: 2025 small boxes in a 20 m box of four heavy walls that a revolute motor turns at 25 deg/s (Box2D's tumbler). \
              Tests a motor driving a heavy body of several shapes against a churning pile."
+        }
+        "ball_and_chain" => {
+            "A chain of 40 capsule links (1 m, density 20) hinged to a fixed point carrying a ball of radius 8 m, 670 times a link's mass (Solver2D's Ball & Chain). \
+             Tests joints under a high mass ratio: a soft-step chain stretches under the ball; how much is the measure."
+        }
+        "bridge" => {
+            "A 160 m bridge of 160 planks (1 m, density 20) hinged end to end and to the ground at both ends (Solver2D's Bridge). \
+             Tests a long chain of joints: the bridge should sag and settle without stretching or jitter."
+        }
+        "stretched_chain" => {
+            "A chain of 40 discs whose hinges want them 1 m apart, started 2 m apart and hung from a fixed point, touching nothing (Solver2D's Stretched Chain). \
+             Tests joint error recovery: the chain should pull itself together without exploding."
         }
         "joint_grid" => {
             "Benchmark: a 100 x 100 grid of discs joined by 19794 revolute joints, hung from 7 static discs, no contacts (Box2D's joint_grid). \
@@ -988,13 +1006,8 @@ fn junkyard_step(steps: u64, world: &mut tumble_physics::World) {
 fn tumbler() -> SceneDef {
     let mut scene = SceneDef::new("tumbler");
     scene.steps = 750;
-    // Box2D's ground body has no shape; a scene's body needs one, so this anchor carries a
-    // small disc 1 km below, where nothing reaches it.
-    scene.push(
-        BodyDef::new(circle(0.1))
-            .kind(BodyKind::Static)
-            .at(0.0, -1000.0),
-    );
+    // Box2D's ground body has no shape: see `anchor_body`.
+    scene.push(anchor_body());
     let (cx, cy) = (0.0, 10.0);
     let wall =
         |hx: f32, hy: f32, x: f32, y: f32| PartDef::new(rect(hx, hy)).at(x, y, 0.0).density(50.0);
@@ -1017,6 +1030,7 @@ fn tumbler() -> SceneDef {
         }),
         spring: None,
         collide_connected: false,
+        anchor_b: None,
     });
     let grid_count = 45;
     let mut y = -0.2 * grid_count as f32 + 10.0;
@@ -1063,14 +1077,6 @@ fn joint_grid() -> SceneDef {
                     .density(1.0)
                     .filter(filter),
             );
-            let hinge = |bodies: [usize; 2], anchor: [f32; 2]| JointDef::Revolute {
-                bodies,
-                anchor,
-                limit: None,
-                motor: None,
-                spring: None,
-                collide_connected: false,
-            };
             if i > 0 {
                 scene.joints.push(hinge([body - 1, body], [x, y + 0.5]));
             }
@@ -1079,6 +1085,126 @@ fn joint_grid() -> SceneDef {
                 scene.joints.push(hinge([body - N, body], [x - 0.5, y]));
             }
         }
+    }
+    scene
+}
+
+/// A static body standing in for Box2D's ground body without shapes, which joints hang from:
+/// a scene's body needs a shape, so it carries a 0.1 m disc 1 km below, where nothing reaches.
+fn anchor_body() -> BodyDef {
+    BodyDef::new(circle(0.1))
+        .kind(BodyKind::Static)
+        .at(0.0, -1000.0)
+}
+
+/// A revolute joint without limit, motor or spring.
+fn hinge(bodies: [usize; 2], anchor: [f32; 2]) -> JointDef {
+    JointDef::Revolute {
+        bodies,
+        anchor,
+        limit: None,
+        motor: None,
+        spring: None,
+        collide_connected: false,
+        anchor_b: None,
+    }
+}
+
+/// Solver2D's `BallAndChain`: 40 capsules (core ±0.5, radius 0.125, density 20, damping 0.1
+/// linear and angular) laid horizontally at y = 20 from the pivot (0, 20), hinged end to end,
+/// the last one hinged to a disc of radius 8 (density 20) beside it; 600 steps.
+fn ball_and_chain() -> SceneDef {
+    let mut scene = SceneDef::new("ball_and_chain");
+    scene.steps = 600;
+    const COUNT: usize = 40;
+    let hx = 0.5f32;
+    let y = COUNT as f32 * hx;
+    let ground = scene.push(anchor_body());
+    let mut prev = ground;
+    let damped = |b: BodyDef| b.density(20.0).damping(0.1, 0.1);
+    for i in 0..COUNT {
+        let link = scene.push(damped(
+            BodyDef::new(ShapeDef::Capsule {
+                center1: [-hx, 0.0],
+                center2: [hx, 0.0],
+                radius: 0.125,
+            })
+            .at((1.0 + 2.0 * i as f32) * hx, y),
+        ));
+        scene
+            .joints
+            .push(hinge([prev, link], [2.0 * i as f32 * hx, y]));
+        prev = link;
+    }
+    let radius = 8.0;
+    let ball = scene.push(damped(
+        BodyDef::new(circle(radius)).at((1.0 + 2.0 * COUNT as f32) * hx + radius - hx, y),
+    ));
+    scene
+        .joints
+        .push(hinge([prev, ball], [2.0 * COUNT as f32 * hx, y]));
+    scene
+}
+
+/// Solver2D's `Bridge`: 160 planks (half extents 0.5 x 0.125, density 20, damping 0.1 linear
+/// and angular) from x = -80 at y = 20, hinged end to end and to the ground at both ends;
+/// 600 steps.
+fn bridge() -> SceneDef {
+    let mut scene = SceneDef::new("bridge");
+    scene.steps = 600;
+    const COUNT: usize = 160;
+    let base = -80.0f32;
+    let ground = scene.push(anchor_body());
+    let mut prev = ground;
+    for i in 0..COUNT {
+        let plank = scene.push(
+            BodyDef::new(rect(0.5, 0.125))
+                .at(base + 0.5 + i as f32, 20.0)
+                .density(20.0)
+                .damping(0.1, 0.1),
+        );
+        scene
+            .joints
+            .push(hinge([prev, plank], [base + i as f32, 20.0]));
+        prev = plank;
+    }
+    scene
+        .joints
+        .push(hinge([prev, ground], [base + COUNT as f32, 20.0]));
+    scene
+}
+
+/// Solver2D's `StretchedChain`: 40 discs (radius 0.2, touching nothing) at x = 0, from
+/// y = 38 down 2 m apart, each hinged 0.5 m above itself to 0.5 m below the one above (to the
+/// fixed point (0, 39.5) for the first), so every hinge starts 1 m apart; 600 steps.
+fn stretched_chain() -> SceneDef {
+    let mut scene = SceneDef::new("stretched_chain");
+    scene.steps = 600;
+    const COUNT: usize = 40;
+    let (length, base) = (1.0f32, 40.0f32);
+    let ground = scene.push(anchor_body());
+    let mut prev = ground;
+    let mut above = [0.0, base - 0.5 * length];
+    let mut y = base - 2.0 * length;
+    let apart = Filter {
+        category: 1,
+        mask: 0,
+        group: 0,
+    };
+    for _ in 0..COUNT {
+        let disc = scene.push(BodyDef::new(circle(0.2)).at(0.0, y).filter(apart));
+        scene.joints.push(JointDef::Revolute {
+            bodies: [prev, disc],
+            anchor: above,
+            limit: None,
+            motor: None,
+            spring: None,
+            collide_connected: false,
+            anchor_b: Some([0.0, y + 0.5 * length]),
+        });
+        prev = disc;
+        above = [0.0, y - 0.5 * length];
+        y -= 2.0 * length;
     }
     scene
 }
@@ -1127,6 +1253,7 @@ fn spinner() -> SceneDef {
         }),
         spring: None,
         collide_connected: false,
+        anchor_b: None,
     });
     let capsule = ShapeDef::Capsule {
         center1: [-0.25, 0.0],
@@ -1167,7 +1294,7 @@ mod tests {
 
     #[test]
     fn every_name_builds_describes_and_validates() {
-        assert_eq!(names().len(), 23);
+        assert_eq!(names().len(), 26);
         for &name in names() {
             let scene = build(name).unwrap_or_else(|| panic!("{name} does not build"));
             assert_eq!(scene.name, name);

@@ -28,16 +28,52 @@
 //! workers (Box2D's own scheduler: the caller plus `threads - 1` threads). A scene with a
 //! script ([`super::script`], junkyard's pusher) runs it before each step through
 //! `b2Body_SetTargetTransform`.
+//!
+//! Joints, created after the bodies from the joints tumble builds ([`super::scene_joints`]:
+//! `JointDef::build`'s frames and defaults), as Box2D 3.2 takes them: each joint's
+//! `localFrameA`/`localFrameB` are tumble's joint frames in each body's origin frame (the
+//! anchor, and a slider's axis as the frame's x axis, put into the frame of the position and
+//! angle the scene gives the body; both frames coincide in the world at the start, so a
+//! revolute joint's angle and a slider's translation count from the start, as in tumble),
+//! `collideConnected` the joint's `collide_connected`, and `constraintHertz` /
+//! `constraintDampingRatio`, the stiffness of the rigid rows, the scene's
+//! `solver.joint_hertz` / `joint_damping_ratio` (60 Hz and 2 by default; Box2D 3.2 sets them
+//! per joint in `b2JointDef`, not in the world definition). Every flag is set explicitly (some
+//! of Box2D's defaults are on). Per type:
+//! - Revolute: `enableLimit`, `lowerAngle`, `upperAngle`; `enableMotor`, `motorSpeed`,
+//!   `maxMotorTorque`; `enableSpring`, `hertz`, `dampingRatio`, `targetAngle` (0, the start).
+//! - Prismatic: the same with `lowerTranslation`/`upperTranslation`, `maxMotorForce` and
+//!   `targetTranslation` (0).
+//! - Wheel: limit, angular motor (`maxMotorTorque`) and spring; a scene's wheel without a
+//!   spring gets tumble's default, Box2D's own: 1 Hz, damping ratio 0.7.
+//! - Distance: `length` (default: the anchors' distance at the start); with a spring,
+//!   `enableSpring`, `hertz`, `dampingRatio`, and with a limit `enableLimit`, `minLength`,
+//!   `maxLength`; without a spring, rigid. No motor.
+//! - Weld: linear and angular hertz and damping ratios (0 Hz: rigid, the rigid rows).
+//! - Motor: tumble's is Box2D v3.0's motor joint, a rigid row `Cdot + (c / h) C = 0` on
+//!   each axis (`c` the correction factor, `h` the substep) bounded by `max_force` (on the
+//!   linear impulse's length) and `max_torque`. Box2D 3.2 replaced it with a velocity part
+//!   (`linearVelocity`, `maxVelocityForce`, ...) and a spring part (`linearHertz`,
+//!   `linearDampingRatio`, `maxSpringForce`, ...) that pulls frame B onto frame A. Mapped:
+//!   frame A is the target pose of B's origin in A's frame (`linear_offset`,
+//!   `angular_offset`), frame B B's origin; with `c` > 0, linear and angular springs whose
+//!   hertz and damping ratio give the bias rate `c / h` and a mass scale of 1 − 10⁻⁴
+//!   ([`correction_spring`]: v3.0's row, softened by 10⁻⁴), bounded by `maxSpringForce =
+//!   max_force` and `maxSpringTorque = max_torque`, the velocity part off; with `c` = 0, the
+//!   velocity part only (target 0, `maxVelocityForce`, `maxVelocityTorque`), v3.0's row
+//!   without correction.
+//! - Filter: `b2FilterJointDef`.
 
 use anyhow::{Result, bail};
 use boxdd::{
-    BodyBuilder, BodyId, BodyType, ChainDef, Circle, Filter, Foundation, MotionLocks, Polygon,
-    Position, Rot, ShapeDef, SurfaceMaterial, Transform, Vec2, WorkerCount, World, WorldBuilder,
-    WorldTransform,
+    BodyBuilder, BodyId, BodyType, ChainDef, Circle, ConstraintTuning, DistanceJointDef, Filter,
+    FilterJointDef, Foundation, MotionLocks, MotorJointDef, Polygon, Position, PrismaticJointDef,
+    RevoluteJointDef, Rot, ShapeDef, SurfaceMaterial, Transform, Vec2, WeldJointDef, WheelJointDef,
+    WorkerCount, World, WorldBuilder, WorldTransform,
 };
-use tumble_physics::{BodyKind, SceneDef, StepSettings};
+use tumble_physics::{BodyKind, JointKind, SceneDef, StepSettings};
 
-use super::{PartShape, Peer, Script, Targets, ok, origin_velocity, part_shape};
+use super::{PartShape, Peer, Script, Targets, ok, origin_velocity, part_shape, scene_joints};
 
 /// A Box2D world holding a tumble scene.
 pub struct Box2d {
@@ -217,6 +253,7 @@ impl Box2d {
         if scene.substeps > i32::MAX as u32 {
             bail!("too many substeps for Box2D");
         }
+        create_joints(&mut world, &ids, scene, settings)?;
         Ok(Box2d {
             world,
             ids,
@@ -243,6 +280,190 @@ impl Box2d {
         let c = ok(body.local_center_of_mass(), "Box2D centre of mass")?;
         Ok((m, [c.x, c.y]))
     }
+}
+
+/// The spring of Box2D 3.2's motor joint that acts as v3.0's position correction (tumble's
+/// motor joint): v3.0 solves `Cdot + (correction_factor / h) C = 0` rigidly, for a substep
+/// `h`; a soft row `b2MakeSoft(hertz, zeta, h)` has the bias rate `ω / (2ζ + hω)` and the mass
+/// scale `x (2ζ + x) / (1 + x (2ζ + x))` with `x = hω`. With `ζ = x (1 − c) / (2c)` the bias
+/// rate is `c / h` for any `x`, and the mass scale `(x² / c) / (1 + x² / c)`: `x² = 10⁴ c`
+/// makes it 1 − 10⁻⁴ (and the impulse scale 10⁻⁴), v3.0's rigid row to that. Returns
+/// (hertz, damping ratio); `c` > 0.
+fn correction_spring(correction_factor: f32, h: f32) -> (f32, f32) {
+    let c = correction_factor;
+    let x = (1.0e4 * c).sqrt();
+    let omega = x / h;
+    (
+        omega / (2.0 * std::f32::consts::PI),
+        x * (1.0 - c) / (2.0 * c),
+    )
+}
+
+/// Creates the scene's joints (see the module's documentation) between the bodies `ids`.
+fn create_joints(
+    world: &mut World,
+    ids: &[BodyId],
+    scene: &SceneDef,
+    settings: &StepSettings,
+) -> Result<()> {
+    let h = scene.dt / scene.substeps.max(1) as f32;
+    for (index, joint) in scene_joints(scene, settings)?.iter().enumerate() {
+        let what = format!(
+            "scene {:?}, Box2D joint {index} ({})",
+            scene.name,
+            joint.kind.name()
+        );
+        let frame = |t: &tumble_physics::Transform| {
+            ok(
+                Transform::from_pos_angle(Vec2::new(t.p.x, t.p.y), t.q.angle()),
+                &what,
+            )
+        };
+        let base = ok(
+            world.joint_base(ids[joint.body_a as usize], ids[joint.body_b as usize]),
+            &what,
+        )?
+        .with_local_frames(frame(&joint.local_a)?, frame(&joint.local_b)?)
+        .with_collide_connected(joint.collide_connected)
+        .with_constraint_tuning(ok(
+            ConstraintTuning::new(joint.hertz, joint.damping_ratio),
+            &what,
+        )?);
+        // Every flag is set, off or on: some of Box2D's defaults are on (the wheel's spring).
+        let created = match &joint.kind {
+            JointKind::Revolute(r) => {
+                let [lower, upper] = r.limit.unwrap_or([0.0; 2]);
+                let motor = r.motor.unwrap_or(tumble_physics::joint::AngularMotor {
+                    speed: 0.0,
+                    max_torque: 0.0,
+                });
+                let spring = r.spring.unwrap_or(tumble_physics::joint::Spring {
+                    hertz: 0.0,
+                    damping_ratio: 0.0,
+                });
+                world.create_revolute_joint(
+                    &RevoluteJointDef::new(base)
+                        .enable_limit(r.limit.is_some())
+                        .lower_angle(lower)
+                        .upper_angle(upper)
+                        .enable_motor(r.motor.is_some())
+                        .motor_speed(motor.speed)
+                        .max_motor_torque(motor.max_torque)
+                        .enable_spring(r.spring.is_some())
+                        .hertz(spring.hertz)
+                        .damping_ratio(spring.damping_ratio)
+                        .target_angle(r.target_angle),
+                )
+            }
+            JointKind::Prismatic(p) => {
+                let [lower, upper] = p.limit.unwrap_or([0.0; 2]);
+                let motor = p.motor.unwrap_or(tumble_physics::joint::LinearMotor {
+                    speed: 0.0,
+                    max_force: 0.0,
+                });
+                let spring = p.spring.unwrap_or(tumble_physics::joint::Spring {
+                    hertz: 0.0,
+                    damping_ratio: 0.0,
+                });
+                world.create_prismatic_joint(
+                    &PrismaticJointDef::new(base)
+                        .enable_limit(p.limit.is_some())
+                        .lower_translation(lower)
+                        .upper_translation(upper)
+                        .enable_motor(p.motor.is_some())
+                        .motor_speed(motor.speed)
+                        .max_motor_force(motor.max_force)
+                        .enable_spring(p.spring.is_some())
+                        .hertz(spring.hertz)
+                        .damping_ratio(spring.damping_ratio)
+                        .translation(p.target_translation),
+                )
+            }
+            JointKind::Wheel(w) => {
+                let [lower, upper] = w.limit.unwrap_or([0.0; 2]);
+                let motor = w.motor.unwrap_or(tumble_physics::joint::AngularMotor {
+                    speed: 0.0,
+                    max_torque: 0.0,
+                });
+                let spring = w.spring.unwrap_or(tumble_physics::joint::Spring {
+                    hertz: 0.0,
+                    damping_ratio: 0.0,
+                });
+                world.create_wheel_joint(
+                    &WheelJointDef::new(base)
+                        .enable_limit(w.limit.is_some())
+                        .lower_translation(lower)
+                        .upper_translation(upper)
+                        .enable_motor(w.motor.is_some())
+                        .motor_speed(motor.speed)
+                        .max_motor_torque(motor.max_torque)
+                        .enable_spring(w.spring.is_some())
+                        .hertz(spring.hertz)
+                        .damping_ratio(spring.damping_ratio),
+                )
+            }
+            JointKind::Distance(d) => {
+                let mut def = DistanceJointDef::new(base)
+                    .length(d.length)
+                    .enable_motor(false)
+                    .enable_spring(d.spring.is_some())
+                    .enable_limit(d.limit.is_some());
+                if let Some(s) = d.spring {
+                    def = def.hertz(s.hertz).damping_ratio(s.damping_ratio);
+                }
+                if let Some([min, max]) = d.limit {
+                    def = def.min_length(min).max_length(max);
+                }
+                world.create_distance_joint(&def)
+            }
+            JointKind::Weld(w) => world.create_weld_joint(
+                &WeldJointDef::new(base)
+                    .linear_hertz(w.linear_hertz)
+                    .angular_hertz(w.angular_hertz)
+                    .linear_damping_ratio(w.linear_damping_ratio)
+                    .angular_damping_ratio(w.angular_damping_ratio),
+            ),
+            JointKind::Motor(m) => {
+                // Box2D 3.2's spring pulls frame B onto frame A: frame A is the target pose of
+                // B's origin in A's frame, frame B B's origin.
+                let target = ok(
+                    Transform::from_pos_angle(
+                        Vec2::new(m.linear_offset.x, m.linear_offset.y),
+                        m.angular_offset,
+                    ),
+                    &what,
+                )?;
+                let base = base.with_local_frames(target, Transform::IDENTITY);
+                let def = MotorJointDef::new(base)
+                    .linear_velocity(Vec2::new(0.0, 0.0))
+                    .angular_velocity(0.0);
+                let def = if m.correction_factor > 0.0 {
+                    let (hertz, zeta) = correction_spring(m.correction_factor, h);
+                    def.linear_hertz(hertz)
+                        .linear_damping_ratio(zeta)
+                        .max_spring_force(m.max_force)
+                        .angular_hertz(hertz)
+                        .angular_damping_ratio(zeta)
+                        .max_spring_torque(m.max_torque)
+                        .max_velocity_force(0.0)
+                        .max_velocity_torque(0.0)
+                } else {
+                    // No correction: v3.0's row only holds the relative velocity at 0.
+                    def.linear_hertz(0.0)
+                        .angular_hertz(0.0)
+                        .max_spring_force(0.0)
+                        .max_spring_torque(0.0)
+                        .max_velocity_force(m.max_force)
+                        .max_velocity_torque(m.max_torque)
+                };
+                world.create_motor_joint(&def)
+            }
+            JointKind::Filter => world.create_filter_joint(&FilterJointDef::new(base)),
+            JointKind::Mouse(_) => bail!("{what}: a scene has no mouse joints"),
+        };
+        ok(created, &what)?;
+    }
+    Ok(())
 }
 
 impl Targets for Box2d {

@@ -5,9 +5,11 @@
 //! peers themselves only with the `peers` feature.
 //!
 //! What both peers share lives here: each body part's geometry in its body's frame
-//! ([`part_shape`]), and the per-scene scripts ([`script`]) that do between steps what a
-//! built-in's `tumble_scene::builtin::script` does in tumble (junkyard's pusher), through the
-//! one call each peer has for it ([`Targets`]).
+//! ([`part_shape`]), the scene's joints as tumble builds them, frames in each body's frame
+//! and defaults filled in ([`scene_joints`]; each peer's module says how it maps them), and
+//! the per-scene scripts ([`script`]) that do between steps what a built-in's
+//! `tumble_scene::builtin::script` does in tumble (junkyard's pusher), through the one call
+//! each peer has for it ([`Targets`]).
 
 #[cfg(feature = "peers")]
 pub mod box2d;
@@ -222,7 +224,48 @@ pub(crate) fn scene_settings(
     // A world of the settings only: `from_scene` fills in the defaults and the solver block.
     let mut empty = scene.clone();
     empty.bodies.clear();
+    empty.joints.clear();
     Ok(*tumble_physics::World::from_scene(&empty, &crate::scenes::limits())?.settings())
+}
+
+/// The scene's joints as tumble builds them (`JointDef::build`, checked by
+/// `JointDef::validate` first): each one's frames in its two bodies' frames (the origins and
+/// angles the scene gives the bodies), with the defaults filled in (a distance joint's length,
+/// a wheel's 1 Hz spring, a motor joint's offsets) and the rigid rows' stiffness, `settings`'
+/// `joint_hertz` and `joint_damping_ratio`. Both peers build theirs from these, so the three
+/// engines start from the same numbers.
+#[cfg(feature = "peers")]
+pub(crate) fn scene_joints(
+    scene: &tumble_physics::SceneDef,
+    settings: &tumble_physics::StepSettings,
+) -> Result<Vec<tumble_physics::joint::Joint>> {
+    use tumble_physics::joint::def::JointFrame;
+    use tumble_physics::{BodyKind, Rot, Transform, Vec2};
+    let frame = |i: usize| {
+        scene.bodies.get(i).map(|b| JointFrame {
+            frame: Transform {
+                p: Vec2::from(b.position),
+                q: Rot::from_angle(b.angle),
+            },
+            dynamic: b.kind == BodyKind::Dynamic,
+        })
+    };
+    let mut joints = Vec::with_capacity(scene.joints.len());
+    for (index, def) in scene.joints.iter().enumerate() {
+        def.validate(index, &frame)
+            .map_err(|e| anyhow::anyhow!("scene {:?}: {e}", scene.name))?;
+        let [a, b] = def.bodies();
+        let (Some(a), Some(b)) = (frame(a), frame(b)) else {
+            unreachable!("validate checks the bodies");
+        };
+        joints.push(def.build(
+            a.frame,
+            b.frame,
+            settings.joint_hertz,
+            settings.joint_damping_ratio,
+        ));
+    }
+    Ok(joints)
 }
 
 /// The velocity of a body's centre of mass from the velocity the scene gives it: tumble's
@@ -247,7 +290,10 @@ mod tests {
     use super::box2d::Box2d;
     use super::rapier::Rapier;
     use super::*;
-    use tumble_physics::{BodyDef, BodyKind, Limits, PartDef, SceneDef, ShapeDef, Vec2, World};
+    use serde_json::json;
+    use tumble_physics::{
+        BodyDef, BodyKind, JointDef, Limits, PartDef, SceneDef, ShapeDef, Vec2, World,
+    };
 
     /// tumble's world behind [`Targets`], to run the peers' script on it.
     struct Tumble<'a>(&'a mut World);
@@ -521,6 +567,252 @@ mod tests {
                 let y = p.pose(i).unwrap()[1];
                 assert_eq!(y > 0.0, land, "{name}, box {k}: y {y}");
             }
+        }
+    }
+
+    /// A joint as a scene file gives it (the fields left out take their defaults).
+    fn joint(def: serde_json::Value) -> JointDef {
+        serde_json::from_value(def).expect("a joint definition")
+    }
+
+    /// A disc of radius 0.25 on a 2 m arm: a revolute joint at the centre of a static disc,
+    /// the dynamic one 2 m to its right, released with the arm horizontal.
+    fn pendulum() -> SceneDef {
+        let mut scene = SceneDef::new("pendulum");
+        scene.sleep = false;
+        scene.push(
+            BodyDef::new(ShapeDef::Circle { radius: 0.1 })
+                .kind(BodyKind::Static)
+                .at(0.0, 10.0),
+        );
+        scene.push(BodyDef::new(ShapeDef::Circle { radius: 0.25 }).at(2.0, 10.0));
+        scene.joints.push(joint(json!({"Revolute": {
+            "bodies": [0, 1],
+            "anchor": [0.0, 10.0],
+        }})));
+        scene
+    }
+
+    #[test]
+    fn a_pendulum_keeps_its_length_in_every_peer() {
+        // The joint holds: over a second of swinging down from horizontal, the disc stays
+        // 2 m from the hinge within 1 cm in Box2D and Rapier (and in tumble, for reference),
+        // and it does swing (it falls more than a metre).
+        let scene = pendulum();
+        let settings = scene_settings(&scene).unwrap();
+        let mut tumble = World::from_scene(&scene, &Limits::default()).unwrap();
+        let mut peers: Vec<(&str, Box<dyn Peer>)> = vec![
+            ("Box2D", Box::new(Box2d::new(&scene, &settings, 1).unwrap())),
+            ("Rapier", Box::new(Rapier::new(&scene, 1).unwrap())),
+        ];
+        let hinge = Vec2::new(0.0, 10.0);
+        for step in 1..=60 {
+            tumble.step(scene.dt, scene.substeps);
+            let t = tumble.body(1).position;
+            assert!(
+                ((t - hinge).length() - 2.0).abs() < 0.01,
+                "tumble, step {step}: {t}"
+            );
+            for (name, p) in &mut peers {
+                p.step().unwrap();
+                let [x, y, _] = p.pose(1).unwrap();
+                let arm = (Vec2::new(x, y) - hinge).length();
+                assert!((arm - 2.0).abs() < 0.01, "{name}, step {step}: arm {arm} m");
+                if step == 60 {
+                    assert!(y < 9.0, "{name}: the disc did not swing (y {y})");
+                    let gap = (Vec2::new(x, y) - t).length();
+                    eprintln!("{name}: {gap:e} m from tumble's disc after 60 steps");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn joint_grid_builds_and_stays_finite_in_every_peer() {
+        let scene = tumble_scene::builtin::build("joint_grid").expect("a built-in");
+        assert!(!scene.joints.is_empty());
+        let settings = scene_settings(&scene).unwrap();
+        let peers: Vec<(&str, Box<dyn Peer>)> = vec![
+            ("Box2D", Box::new(Box2d::new(&scene, &settings, 2).unwrap())),
+            ("Rapier", Box::new(Rapier::new(&scene, 2).unwrap())),
+        ];
+        for (name, mut p) in peers {
+            for _ in 0..10 {
+                p.step().unwrap();
+            }
+            for i in 0..scene.bodies.len() {
+                let pose = p.pose(i).unwrap();
+                assert!(
+                    pose.iter().all(|x| x.is_finite()),
+                    "{name}, body {i}: {pose:?}"
+                );
+            }
+        }
+    }
+
+    /// One joint of every type, each between a static post and a dynamic box (or two boxes),
+    /// far enough apart that nothing touches: revolute with a limit, motor and spring,
+    /// prismatic with all three, wheel with a motor and its default spring, a rigid distance,
+    /// a rope (a slack spring with an upper limit), a soft weld, a motor joint and a filter.
+    fn every_joint() -> SceneDef {
+        let mut scene = SceneDef::new("every joint");
+        scene.sleep = false;
+        let post = |scene: &mut SceneDef, x: f32| {
+            scene.push(
+                BodyDef::new(ShapeDef::Circle { radius: 0.1 })
+                    .kind(BodyKind::Static)
+                    .at(x, 10.0),
+            )
+        };
+        let unit = ShapeDef::Box {
+            half_extents: [0.5, 0.25],
+            radius: 0.0,
+        };
+        let spring = json!({"hertz": 2.0, "damping_ratio": 0.5});
+        let mut x = 0.0;
+        let mut pair = |scene: &mut SceneDef, dx: f32, dy: f32| {
+            x += 10.0;
+            let a = post(scene, x);
+            let b = scene.push(BodyDef::new(unit.clone()).at(x + dx, 10.0 + dy).angle(0.3));
+            (a, b, [x, 10.0])
+        };
+        let (a, b, anchor) = pair(&mut scene, 1.0, 0.0);
+        scene.joints.push(joint(json!({"Revolute": {
+            "bodies": [a, b],
+            "anchor": anchor,
+            "limit": [-0.5, 0.5],
+            "motor": {"speed": 1.0, "max_torque": 5.0},
+            "spring": spring,
+        }})));
+        let (a, b, anchor) = pair(&mut scene, 1.0, -1.0);
+        scene.joints.push(joint(json!({"Prismatic": {
+            "bodies": [a, b],
+            "anchor": anchor,
+            "axis": [1.0, -1.0],
+            "limit": [-1.0, 2.0],
+            "motor": {"speed": 0.5, "max_force": 3.0},
+            "spring": spring,
+        }})));
+        let (a, b, [x0, _]) = pair(&mut scene, 0.0, -1.0);
+        scene.joints.push(joint(json!({"Wheel": {
+            "bodies": [a, b],
+            "anchor": [x0, 9.0],
+            "axis": [0.0, 1.0],
+            "limit": [-0.5, 0.5],
+            "motor": {"speed": 2.0, "max_torque": 10.0},
+        }})));
+        let (a, b, anchor) = pair(&mut scene, 1.5, -1.5);
+        scene.joints.push(joint(json!({"Distance": {
+            "bodies": [a, b],
+            "anchors": [anchor, [anchor[0] + 1.0, 8.5]],
+        }})));
+        let (a, b, anchor) = pair(&mut scene, 2.0, 0.0);
+        scene.joints.push(joint(json!({"Distance": {
+            "bodies": [a, b],
+            "anchors": [anchor, [anchor[0] + 1.5, 10.0]],
+            "limit": [0.0, 2.5],
+            "spring": {"hertz": 0.0, "damping_ratio": 0.0},
+        }})));
+        let (a, b, anchor) = pair(&mut scene, 1.0, 0.0);
+        scene.joints.push(joint(json!({"Weld": {
+            "bodies": [a, b],
+            "anchor": anchor,
+            "linear_hertz": 5.0,
+            "angular_hertz": 3.0,
+            "linear_damping_ratio": 0.7,
+            "angular_damping_ratio": 0.7,
+        }})));
+        let (a, b, _) = pair(&mut scene, 1.0, 0.0);
+        scene.joints.push(joint(json!({"Motor": {
+            "bodies": [a, b],
+            "linear_offset": [0.0, -1.0],
+            "angular_offset": 0.0,
+            "max_force": 50.0,
+            "max_torque": 20.0,
+            "correction_factor": 0.3,
+        }})));
+        // Two dynamic boxes overlapping, kept apart only by the filter joint's rule: they
+        // fall together without pushing each other.
+        x += 10.0;
+        let a = scene.push(BodyDef::new(unit.clone()).at(x, 10.0));
+        let b = scene.push(BodyDef::new(unit).at(x + 0.2, 10.0));
+        scene
+            .joints
+            .push(joint(json!({"Filter": {"bodies": [a, b]}})));
+        scene
+    }
+
+    #[test]
+    fn every_joint_type_builds_and_moves_as_in_tumble() {
+        // Each joint drives its box the way tumble's does after a second. Box2D runs the
+        // same rows (its motor joint's spring standing in for v3.0's correction): within
+        // round-off (4e-6 m at worst). Rapier's solver differs (its rigid rows, its
+        // stabilization passes): 7e-2 rad at worst, the rope's box swinging.
+        let scene = every_joint();
+        let settings = scene_settings(&scene).unwrap();
+        let mut tumble = World::from_scene(&scene, &Limits::default()).unwrap();
+        let mut box2d = Box2d::new(&scene, &settings, 1).unwrap();
+        let mut rapier = Rapier::new(&scene, 1).unwrap();
+        let mut worst = [0.0f32; 2];
+        for _ in 0..60 {
+            tumble.step(scene.dt, scene.substeps);
+            box2d.step().unwrap();
+            rapier.step().unwrap();
+        }
+        for i in 0..scene.bodies.len() {
+            let t = tumble.body(i);
+            for (k, (name, p)) in [
+                ("Box2D", &mut box2d as &mut dyn Peer),
+                ("Rapier", &mut rapier as &mut dyn Peer),
+            ]
+            .into_iter()
+            .enumerate()
+            {
+                let [x, y, angle] = p.pose(i).unwrap();
+                let d = (Vec2::new(x, y) - t.origin).length();
+                let turn = (angle - t.angle).sin().abs();
+                eprintln!("body {i}: {name} {d:.2e} m, {turn:.2e} rad from tumble");
+                worst[k] = worst[k].max(d).max(turn);
+            }
+        }
+        assert!(worst[0] < 1e-4, "Box2D: {worst:?}");
+        assert!(worst[1] < 0.1, "Rapier: {worst:?}");
+        // The filter joint's boxes fell together, overlapping, untouched by each other.
+        let n = scene.bodies.len();
+        let (a, b) = (tumble.body(n - 2), tumble.body(n - 1));
+        assert!((b.origin.x - a.origin.x - 0.2).abs() < 1e-4 && a.origin.y < 9.0);
+    }
+
+    #[test]
+    fn rapier_refuses_a_distance_lower_limit_naming_the_joint() {
+        let mut scene = pendulum();
+        scene.joints[0] = joint(json!({"Distance": {
+            "bodies": [0, 1],
+            "anchors": [[0.0, 10.0], [2.0, 10.0]],
+            "limit": [1.0, 3.0],
+            "spring": {"hertz": 1.0, "damping_ratio": 0.5},
+        }}));
+        let e = Rapier::new(&scene, 1).err().expect("refused").to_string();
+        assert!(e.contains("joint 0 (Distance)"), "{e}");
+        // Box2D has the limit.
+        let settings = scene_settings(&scene).unwrap();
+        Box2d::new(&scene, &settings, 1).unwrap();
+    }
+
+    #[test]
+    fn zz_motor_check() {
+        for (name, body) in [("tumbler", 1usize), ("spinner", 1)] {
+            let scene = tumble_scene::builtin::build(name).unwrap();
+            let settings = scene_settings(&scene).unwrap();
+            let mut tumble = World::from_scene(&scene, &Limits { max_bodies: 1_000_000, ..Limits::default() }).unwrap();
+            let mut box2d = Box2d::new(&scene, &settings, 2).unwrap();
+            let mut rapier = Rapier::new(&scene, 2).unwrap();
+            for _ in 0..60 {
+                tumble.step(scene.dt, scene.substeps);
+                box2d.step().unwrap();
+                rapier.step().unwrap();
+            }
+            eprintln!("{name}: angle tumble {} box2d {} rapier {}; w {} {} {}", tumble.body(body).angle, box2d.pose(body).unwrap()[2], rapier.pose(body).unwrap()[2], tumble.body(body).angular_velocity, box2d.velocity(body).unwrap()[2], rapier.velocity(body).unwrap()[2]);
         }
     }
 }

@@ -47,13 +47,63 @@
 //! script ([`super::script`], junkyard's pusher) runs it before each step: a target transform
 //! becomes the velocity that reaches it in one step, computed as tumble's
 //! `World::set_target_transform` does. The step runs inside a rayon pool of `threads` threads.
+//!
+//! Joints: impulse joints (`ImpulseJointSet`), created after the bodies from the joints tumble
+//! builds ([`super::scene_joints`]: `JointDef::build`'s frames and defaults). Each is a
+//! `GenericJoint` whose `local_frame1`/`local_frame2` are tumble's joint frames in each body's
+//! origin frame, positions and angles (Rapier's typed builders, `RevoluteJointBuilder` and
+//! the rest, set only anchors and axes: the frames would keep the bodies' angles, and a
+//! limit would count from A's angle, not from the start), with `contacts_enabled` the
+//! joint's `collide_connected`. The locked rows keep Rapier's own softness (1 MHz, damping
+//! ratio 1: rigid). The scene's `solver.joint_hertz` and `joint_damping_ratio` are not passed
+//! on, as the contact stiffness is not: Rapier's softness of a natural frequency and damping
+//! ratio has Box2D's bias rate and softening, but Rapier keeps the softening in its
+//! stabilization passes (Box2D's and tumble's relax passes solve the rigid rows rigidly),
+//! where it lets a row's accumulated impulse leak away: at 60 Hz and 2, joint_grid's 100
+//! rows of discs hung 11 m lower than tumble's after 2 s, against 2 m with Rapier's softness.
+//!
+//! Springs are acceleration-based position motors of stiffness `ω²` and damping `2ζω`
+//! ([`spring`]): that model scales both by the row's effective mass, so each row's bias and
+//! softening are exactly Box2D's soft row of that hertz and damping ratio over the same
+//! substep (Rapier's solver runs its joints with the substep as `dt`), and a motor keeps its
+//! bias in the stabilization passes, as Box2D's springs act in its relax pass. A slack spring
+//! (0 Hz, which acts on nothing in Box2D and tumble) is left out. Motors are velocity motors
+//! of infinite strength (damping `f32::MAX`), bounded by their torque or force: Box2D's rigid
+//! motor row. Rapier has one motor per axis of a joint: a spring and a motor on the same axis
+//! become two joints of the same frames, the second locking nothing ([`drive`]). Per type:
+//! - Revolute: the revolute axes locked, the limit on the angle, spring and motor on it.
+//! - Prismatic: the prismatic axes locked (across the axis, and the angle), limit, spring and
+//!   motor along the axis.
+//! - Wheel: Rapier has no wheel joint; its pin-slot axes are one: only the direction across
+//!   the axis locked, the suspension a spring along the axis (1 Hz, 0.7 when the scene gives
+//!   none, as tumble and Box2D), the limit along it, the motor on the free angle.
+//! - Distance: Rapier's coupled linear axes (its rope and spring joints'), the frames at the
+//!   anchors. With a spring, the spring at the length and, with a limit, the coupled limit,
+//!   which holds only an upper bound: a lower bound above the linear slop (5 mm, Box2D's
+//!   least length) is refused with an error naming the joint. Without one, rigid: a position
+//!   motor at the length as stiff as the rigid rows (the scene's joint hertz and damping ratio,
+//!   capped at a quarter of the substep rate as in Box2D), as no coupled row holds a length
+//!   both ways; a motor row keeps its bias in the stabilization passes, so this one does not
+//!   leak.
+//! - Weld: a rigid part (0 Hz) locked, a soft part a spring of its hertz and damping ratio
+//!   (the linear one on each axis of A's frame: two rows, where Box2D solves one 2×2 block).
+//! - Motor (Box2D v3.0's, tumble's): frame A at the target pose of B's origin in A's frame,
+//!   frame B at B's origin, and on each of the three axes a position motor whose bias is
+//!   `correction_factor / h` and softening 10⁻⁶, bounded by `max_force` on each linear axis
+//!   of A's frame (Box2D bounds the linear impulse's length: Rapier's may reach √2 times it
+//!   diagonally) and `max_torque`.
+//! - Filter: a joint that locks nothing, with contacts off. Unlike Box2D's filter joint it
+//!   ties the two bodies' islands.
+//!
+//! A joint that cannot be expressed is refused with an error naming the scene, the joint's
+//! index and its type, never dropped.
 
 use anyhow::{Context, Result, bail};
 use rapier2d::prelude::*;
 use rapier2d::rayon;
 use tumble_physics::{BodyKind, SceneDef};
 
-use super::{PartShape, Peer, Script, Targets, part_shape, scene_settings};
+use super::{PartShape, Peer, Script, Targets, part_shape, scene_joints, scene_settings};
 
 /// A Rapier world holding a tumble scene.
 pub struct Rapier {
@@ -304,6 +354,7 @@ impl Rapier {
             }
             handles.push(handle);
         }
+        create_joints(&mut world, &handles, scene, &settings)?;
         Ok(Rapier {
             world,
             handles,
@@ -327,6 +378,231 @@ impl Rapier {
         let c = body.local_center_of_mass();
         (body.mass(), [c.x, c.y])
     }
+}
+
+/// A spring of `hertz` and damping ratio `zeta` as the stiffness and damping of Rapier's
+/// acceleration-based motor model: `(ω², 2ζω)`, `ω = 2π hertz`. That model scales both by
+/// the row's effective mass, so its bias `k / (hk + c) = ω / (hω + 2ζ)` and its softening
+/// `1 / (h²k + hc) = 1 / (hω (hω + 2ζ))` are exactly Box2D's (and tumble's) soft row of that
+/// hertz and damping ratio over the same substep `h`. `None` for a slack spring (hertz 0,
+/// which acts on nothing in Box2D and tumble; Rapier's motor of zero stiffness and damping
+/// would instead hold the rate rigidly).
+fn spring(s: Option<tumble_physics::joint::Spring>) -> Option<(f32, f32)> {
+    let s = s.filter(|s| s.hertz > 0.0)?;
+    let omega = 2.0 * std::f32::consts::PI * s.hertz;
+    Some((omega * omega, 2.0 * s.damping_ratio * omega))
+}
+
+/// Box2D's spring and motor on one axis of a joint: a position motor towards `target`
+/// (`spring`: acceleration-based stiffness and damping, unbounded) and a velocity motor
+/// (`motor`: speed and most force or torque) of infinite strength (damping `f32::MAX`: no
+/// softening, Box2D's rigid motor row). Rapier has one motor per axis of a joint, so with both
+/// the velocity motor goes on `bare`, a second joint of the same frames that locks nothing,
+/// as Box2D solves them as two rows (the spring's unbounded); returns that joint when used.
+fn drive(
+    joint: &mut GenericJointBuilder,
+    bare: impl FnOnce() -> GenericJointBuilder,
+    axis: JointAxis,
+    target: f32,
+    spring: Option<(f32, f32)>,
+    motor: Option<(f32, f32)>,
+) -> Option<GenericJointBuilder> {
+    let velocity = |j: GenericJointBuilder, (speed, max): (f32, f32)| {
+        j.motor_model(axis, MotorModel::AccelerationBased)
+            .motor_velocity(axis, speed, f32::MAX)
+            .motor_max_force(axis, max)
+    };
+    if let Some((k, c)) = spring {
+        *joint = (*joint)
+            .motor_model(axis, MotorModel::AccelerationBased)
+            .motor_position(axis, target, k, c);
+        return motor.map(|m| velocity(bare(), m));
+    }
+    if let Some(m) = motor {
+        *joint = velocity(*joint, m);
+    }
+    None
+}
+
+/// Creates the scene's joints (see the module's documentation) between the bodies `handles`.
+fn create_joints(
+    world: &mut PhysicsWorld,
+    handles: &[RigidBodyHandle],
+    scene: &SceneDef,
+    settings: &tumble_physics::StepSettings,
+) -> Result<()> {
+    use tumble_physics::JointKind;
+    let h = scene.dt / scene.substeps.max(1) as f32;
+    for (index, joint) in scene_joints(scene, settings)?.iter().enumerate() {
+        let what = || {
+            format!(
+                "scene {:?}, Rapier joint {index} ({})",
+                scene.name,
+                joint.kind.name()
+            )
+        };
+        let frame =
+            |t: &tumble_physics::Transform| Pose::new(Vector::new(t.p.x, t.p.y), t.q.angle());
+        let generic = |locked: JointAxesMask| {
+            GenericJointBuilder::new(locked)
+                .local_frame1(frame(&joint.local_a))
+                .local_frame2(frame(&joint.local_b))
+                .contacts_enabled(joint.collide_connected)
+        };
+        let bare = || generic(JointAxesMask::empty());
+        let mut built = Vec::with_capacity(2);
+        match &joint.kind {
+            JointKind::Revolute(r) => {
+                let mut j = generic(JointAxesMask::LOCKED_REVOLUTE_AXES);
+                if let Some(limit) = r.limit {
+                    j = j.limits(JointAxis::AngX, limit);
+                }
+                let motor = r.motor.map(|m| (m.speed, m.max_torque));
+                let extra = drive(
+                    &mut j,
+                    bare,
+                    JointAxis::AngX,
+                    r.target_angle,
+                    spring(r.spring),
+                    motor,
+                );
+                built.push(j);
+                built.extend(extra);
+            }
+            JointKind::Prismatic(p) => {
+                let mut j = generic(JointAxesMask::LOCKED_PRISMATIC_AXES);
+                if let Some(limit) = p.limit {
+                    j = j.limits(JointAxis::LinX, limit);
+                }
+                let motor = p.motor.map(|m| (m.speed, m.max_force));
+                let extra = drive(
+                    &mut j,
+                    bare,
+                    JointAxis::LinX,
+                    p.target_translation,
+                    spring(p.spring),
+                    motor,
+                );
+                built.push(j);
+                built.extend(extra);
+            }
+            JointKind::Wheel(w) => {
+                // Rapier's pin-slot axes: only the direction across the axis is locked.
+                let mut j = generic(JointAxesMask::LOCKED_PIN_SLOT_AXES);
+                if let Some(limit) = w.limit {
+                    j = j.limits(JointAxis::LinX, limit);
+                }
+                drive(&mut j, bare, JointAxis::LinX, 0.0, spring(w.spring), None);
+                let motor = w.motor.map(|m| (m.speed, m.max_torque));
+                drive(&mut j, bare, JointAxis::AngX, 0.0, None, motor);
+                built.push(j);
+            }
+            JointKind::Distance(d) => {
+                // The anchors' distance: Rapier's coupled linear axes (as its rope and spring
+                // joints), the frames at the anchors.
+                let mut j = bare().coupled_axes(JointAxesMask::LIN_AXES);
+                let soft = d.spring.is_some() && d.limit.is_none_or(|[lo, hi]| lo < hi);
+                if soft {
+                    if let Some([lower, upper]) = d.limit {
+                        if lower > tumble_physics::LINEAR_SLOP {
+                            bail!(
+                                "{}: a distance limit's lower bound ({lower} m) cannot be \
+                                 expressed: Rapier's coupled linear limit holds only the upper \
+                                 one",
+                                what()
+                            );
+                        }
+                        j = j.limits(JointAxis::LinX, [0.0, upper]);
+                    }
+                    drive(
+                        &mut j,
+                        bare,
+                        JointAxis::LinX,
+                        d.length,
+                        spring(d.spring),
+                        None,
+                    );
+                } else {
+                    // A rod: a position motor of unbounded force at the length, as stiff as
+                    // the rigid rows (Rapier's coupled limit holds only an upper bound).
+                    let rod = Some(tumble_physics::joint::Spring {
+                        hertz: joint.hertz.min(0.25 / h),
+                        damping_ratio: joint.damping_ratio,
+                    });
+                    drive(&mut j, bare, JointAxis::LinX, d.length, spring(rod), None);
+                }
+                built.push(j);
+            }
+            JointKind::Weld(w) => {
+                // A part of 0 Hz is locked; a soft part is a position motor (a spring that,
+                // as Box2D's, also acts in the stabilization passes), on each of frame A's
+                // axes for the linear part.
+                let mut locked = JointAxesMask::empty();
+                if w.linear_hertz == 0.0 {
+                    locked |= JointAxesMask::LIN_AXES;
+                }
+                if w.angular_hertz == 0.0 {
+                    locked |= JointAxesMask::ANG_AXES;
+                }
+                let mut j = generic(locked);
+                let linear = spring(Some(tumble_physics::joint::Spring {
+                    hertz: w.linear_hertz,
+                    damping_ratio: w.linear_damping_ratio,
+                }));
+                for axis in [JointAxis::LinX, JointAxis::LinY] {
+                    drive(&mut j, bare, axis, 0.0, linear, None);
+                }
+                let angular = spring(Some(tumble_physics::joint::Spring {
+                    hertz: w.angular_hertz,
+                    damping_ratio: w.angular_damping_ratio,
+                }));
+                drive(&mut j, bare, JointAxis::AngX, 0.0, angular, None);
+                built.push(j);
+            }
+            JointKind::Motor(m) => {
+                // Box2D v3.0's motor joint (tumble's): frame A at the target pose of B's
+                // origin in A's frame, frame B at B's origin, and on each of the three axes a
+                // row `Cdot + (correction / h) C = 0` bounded by the force or torque. Rapier's
+                // acceleration-based position motor `(k, c)` has the bias `k / (hk + c)` and
+                // the softening `1 / (h²k + hc)`: `k = c_f / (h² ε)`, `c = (1 − c_f) / (h ε)`
+                // give the bias `c_f / h` and a softening `ε`, here 10⁻⁶ (rigid). Rapier bounds
+                // each linear axis of frame A on its own: the force may reach √2 × max_force
+                // diagonally, where Box2D bounds its length.
+                const EPSILON: f32 = 1.0e-6;
+                let cf = m.correction_factor;
+                let (k, c) = (cf / (h * h * EPSILON), (1.0 - cf) / (h * EPSILON));
+                let target = Pose::new(
+                    Vector::new(m.linear_offset.x, m.linear_offset.y),
+                    m.angular_offset,
+                );
+                let mut j = bare().local_frame1(target).local_frame2(Pose::IDENTITY);
+                for (axis, max) in [
+                    (JointAxis::LinX, m.max_force),
+                    (JointAxis::LinY, m.max_force),
+                    (JointAxis::AngX, m.max_torque),
+                ] {
+                    j = j
+                        .motor_model(axis, MotorModel::AccelerationBased)
+                        .motor_position(axis, 0.0, k, c)
+                        .motor_max_force(axis, max);
+                }
+                built.push(j);
+            }
+            JointKind::Filter => {
+                // Nothing locked: only keeps the two bodies from touching.
+                built.push(bare().contacts_enabled(false));
+            }
+            JointKind::Mouse(_) => bail!("{}: a scene has no mouse joints", what()),
+        }
+        let (a, b) = (
+            handles[joint.body_a as usize],
+            handles[joint.body_b as usize],
+        );
+        for j in built {
+            world.insert_impulse_joint(a, b, j.build());
+        }
+    }
+    Ok(())
 }
 
 impl Targets for Rapier {

@@ -76,6 +76,10 @@ pub enum JointDef {
         /// Whether the two bodies touch.
         #[serde(default, skip_serializing_if = "is_false")]
         collide_connected: bool,
+        /// B's hinge point at the start where it is not `anchor` (m, world): a joint that
+        /// starts stretched and pulls the two points together (Solver2D's stretched chain).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        anchor_b: Option<[f32; 2]>,
     },
     /// B slides along `axis` (fixed in A) without turning relative to A.
     Prismatic {
@@ -339,9 +343,13 @@ impl JointDef {
                 limit: l,
                 motor,
                 spring: s,
+                anchor_b,
                 ..
             } => {
                 point("anchor", *anchor)?;
+                if let Some(p) = anchor_b {
+                    point("anchor_b", *p)?;
+                }
                 limit("limit", *l, ANGLE, "rad; 0.99π at most either way")?;
                 if let Some(m) = motor {
                     finite("motor.speed", m.speed, "rad/s")?;
@@ -495,9 +503,11 @@ impl JointDef {
                 motor,
                 spring,
                 collide_connected,
+                anchor_b,
                 ..
             } => {
-                let (la, lb) = frames(Vec2::from(*anchor), Rot::IDENTITY);
+                let (la, _) = frames(Vec2::from(*anchor), Rot::IDENTITY);
+                let (_, lb) = frames(Vec2::from(anchor_b.unwrap_or(*anchor)), Rot::IDENTITY);
                 let kind = JointKind::Revolute(Revolute {
                     limit: *limit,
                     motor: *motor,

@@ -34,6 +34,7 @@ fn hinge(bodies: [usize; 2], anchor: [f32; 2]) -> JointDef {
         motor: None,
         spring: None,
         collide_connected: false,
+        anchor_b: None,
     }
 }
 
@@ -132,6 +133,7 @@ fn a_revolute_limit_holds_the_angle_and_a_motor_reaches_its_speed() {
         motor: None,
         spring: None,
         collide_connected: false,
+        anchor_b: None,
     };
     let mut w = world(vec![ground(), rod.clone()], vec![limited]);
     for _ in 0..180 {
@@ -156,6 +158,7 @@ fn a_revolute_limit_holds_the_angle_and_a_motor_reaches_its_speed() {
         }),
         spring: None,
         collide_connected: false,
+        anchor_b: None,
     }];
     let mut w = World::from_scene(&scene, &Limits::default()).unwrap();
     for _ in 0..30 {
@@ -188,6 +191,7 @@ fn a_revolute_spring_oscillates_at_its_hertz() {
             damping_ratio: 0.0,
         }),
         collide_connected: false,
+        anchor_b: None,
     }];
     let mut w = World::from_scene(&scene, &Limits::default()).unwrap();
     // The spring's rest angle is the start: the disc was placed at 0.2, so turn it by
@@ -471,6 +475,7 @@ fn joined_bodies_do_not_touch_unless_the_joint_lets_them() {
             motor: None,
             spring: None,
             collide_connected: collide,
+            anchor_b: None,
         }];
         let mut w = World::from_scene(&scene, &Limits::default()).unwrap();
         w.step(DT, 4);
@@ -563,6 +568,7 @@ fn bad_joints_are_refused_with_their_index_and_field() {
         motor: None,
         spring: None,
         collide_connected: false,
+        anchor_b: None,
     };
     assert_eq!(refused(vec![limited([0.5, -0.5])]).1, "Revolute.limit");
     assert_eq!(refused(vec![limited([-4.0, 0.5])]).1, "Revolute.limit");
