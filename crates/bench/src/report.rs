@@ -550,8 +550,8 @@ fn markdown(
     let _ = writeln!(md, "## Not measured: orbit-like motion\n");
     let _ = writeln!(
         md,
-        "Uniform circular motion needs a central force, and none of the engines has one \
-         without joints. The other way, a frictionless ball running round the inside of a \
+        "Uniform circular motion needs a central force: a joint gives one (the report's joint \
+         cases are the next step). The other way, a frictionless ball running round the inside of a \
          bowl, needs a round bowl: tumble has one convex shape of at most 8 vertices per body, \
          so a bowl is a ring of flat static boxes, and at every corner between two faces the \
          ball meets the next face with the normal part of its velocity, v·sin(turn), which the \

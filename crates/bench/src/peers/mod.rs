@@ -798,21 +798,4 @@ mod tests {
         let settings = scene_settings(&scene).unwrap();
         Box2d::new(&scene, &settings, 1).unwrap();
     }
-
-    #[test]
-    fn zz_motor_check() {
-        for (name, body) in [("tumbler", 1usize), ("spinner", 1)] {
-            let scene = tumble_scene::builtin::build(name).unwrap();
-            let settings = scene_settings(&scene).unwrap();
-            let mut tumble = World::from_scene(&scene, &Limits { max_bodies: 1_000_000, ..Limits::default() }).unwrap();
-            let mut box2d = Box2d::new(&scene, &settings, 2).unwrap();
-            let mut rapier = Rapier::new(&scene, 2).unwrap();
-            for _ in 0..60 {
-                tumble.step(scene.dt, scene.substeps);
-                box2d.step().unwrap();
-                rapier.step().unwrap();
-            }
-            eprintln!("{name}: angle tumble {} box2d {} rapier {}; w {} {} {}", tumble.body(body).angle, box2d.pose(body).unwrap()[2], rapier.pose(body).unwrap()[2], tumble.body(body).angular_velocity, box2d.velocity(body).unwrap()[2], rapier.velocity(body).unwrap()[2]);
-        }
-    }
 }
