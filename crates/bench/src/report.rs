@@ -11,6 +11,7 @@
 mod cases;
 mod chart;
 mod engines;
+mod joint_cases;
 mod overlap;
 
 use std::fmt::Write as _;

@@ -27,7 +27,7 @@ pub struct MetricDef {
 }
 
 impl MetricDef {
-    fn new(name: &'static str, key: &'static str) -> MetricDef {
+    pub(super) fn new(name: &'static str, key: &'static str) -> MetricDef {
         MetricDef {
             name,
             key,
@@ -35,11 +35,11 @@ impl MetricDef {
             plot: false,
         }
     }
-    fn bound(mut self, bound: f64) -> MetricDef {
+    pub(super) fn bound(mut self, bound: f64) -> MetricDef {
         self.bound = Some(bound);
         self
     }
-    fn plot(mut self) -> MetricDef {
+    pub(super) fn plot(mut self) -> MetricDef {
         self.plot = true;
         self
     }
@@ -122,6 +122,7 @@ pub fn all(quick: bool) -> Result<Vec<Case>> {
     cases.push(far_from_origin()?);
     cases.push(chain_slide());
     cases.push(capsules());
+    cases.extend(super::joint_cases::all());
     if quick {
         for c in &mut cases {
             c.steps = c.steps.min(10);

@@ -95,9 +95,12 @@ impl Engine {
             // Neither peer has more than one restitution pass.
             Engine::Box2d => k.relax == d.relax && k.restitution_passes == d.restitution_passes,
             // Rapier has no restitution threshold: a contact with restitution >= 1 always
-            // bounces, others bounce on their first step of contact.
+            // bounces, others bounce on their first step of contact. Its joints' locked rows
+            // are rigid: no joint hertz.
             Engine::Rapier => {
-                k.threshold == d.threshold && k.restitution_passes == d.restitution_passes
+                k.threshold == d.threshold
+                    && k.restitution_passes == d.restitution_passes
+                    && k.joint_hertz == d.joint_hertz
             }
         }
     }
@@ -133,6 +136,9 @@ pub struct Knobs {
     pub threshold: f32,
     /// Restitution passes at the end of a step (tumble only; Box2D and Rapier: 1).
     pub restitution_passes: u32,
+    /// Stiffness of the joints' rigid rows (Hz; the scene's `solver.joint_hertz`; tumble and
+    /// Box2D: clamped to a quarter of the substep rate; Rapier's joints are rigid).
+    pub joint_hertz: f32,
 }
 
 impl Knobs {
@@ -144,6 +150,7 @@ impl Knobs {
         push: 3.0,
         threshold: 1.0,
         restitution_passes: 1,
+        joint_hertz: 60.0,
     };
 
     /// "4 sub", "4 sub, 2 relax", "4 sub, 15 Hz", "4 sub, push 1 m/s": the substeps and
@@ -166,6 +173,9 @@ impl Knobs {
         if self.restitution_passes != d.restitution_passes {
             s.push_str(&format!(", {} restitution passes", self.restitution_passes));
         }
+        if self.joint_hertz != d.joint_hertz {
+            s.push_str(&format!(", joints {} Hz", self.joint_hertz));
+        }
         s
     }
 
@@ -177,7 +187,9 @@ impl Knobs {
         } else {
             format!("{}/", self.substeps)
         };
-        if self.relax != d.relax {
+        if self.joint_hertz != d.joint_hertz {
+            format!("{prefix}j{}Hz", self.joint_hertz)
+        } else if self.relax != d.relax {
             format!("{prefix}r{}", self.relax)
         } else if self.hertz != d.hertz {
             format!("{prefix}{}Hz", self.hertz)
@@ -213,6 +225,9 @@ pub fn build(
 ) -> Result<Box<dyn Peer>> {
     let mut scene_k = scene.clone();
     scene_k.substeps = knobs.substeps;
+    if knobs.joint_hertz != Knobs::DEFAULT.joint_hertz {
+        scene_k.solver.joint_hertz = Some(knobs.joint_hertz);
+    }
     match engine {
         Engine::Tumble => Ok(Box::new(TumbleSim::new(&scene_k, knobs, threads)?)),
         #[cfg(feature = "peers")]
@@ -247,6 +262,7 @@ pub fn build(
 fn settings_of(scene: &SceneDef, knobs: &Knobs) -> Result<StepSettings> {
     let mut empty = scene.clone();
     empty.bodies.clear();
+    empty.joints.clear();
     let mut settings = *World::from_scene(&empty, &scenes::limits())?.settings();
     apply(&mut settings, knobs);
     Ok(settings)

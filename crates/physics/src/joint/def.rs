@@ -73,20 +73,36 @@ pub enum JointDef {
         /// The hinge point (m, world, at the start).
         anchor: [f32; 2],
         /// Bounds of B's angle relative to A from the start, −0.99π ≤ lower ≤ upper ≤ 0.99π.
-        #[serde(default, deserialize_with = "present", skip_serializing_if = "Option::is_none")]
+        #[serde(
+            default,
+            deserialize_with = "present",
+            skip_serializing_if = "Option::is_none"
+        )]
         limit: Option<[f32; 2]>,
         /// Drives the angle's rate.
-        #[serde(default, deserialize_with = "present", skip_serializing_if = "Option::is_none")]
+        #[serde(
+            default,
+            deserialize_with = "present",
+            skip_serializing_if = "Option::is_none"
+        )]
         motor: Option<AngularMotor>,
         /// Pulls the angle back to its start.
-        #[serde(default, deserialize_with = "present", skip_serializing_if = "Option::is_none")]
+        #[serde(
+            default,
+            deserialize_with = "present",
+            skip_serializing_if = "Option::is_none"
+        )]
         spring: Option<Spring>,
         /// Whether the two bodies touch.
         #[serde(default, skip_serializing_if = "is_false")]
         collide_connected: bool,
         /// B's hinge point at the start where it is not `anchor` (m, world): a joint that
         /// starts stretched and pulls the two points together (Solver2D's stretched chain).
-        #[serde(default, deserialize_with = "present", skip_serializing_if = "Option::is_none")]
+        #[serde(
+            default,
+            deserialize_with = "present",
+            skip_serializing_if = "Option::is_none"
+        )]
         anchor_b: Option<[f32; 2]>,
     },
     /// B slides along `axis` (fixed in A) without turning relative to A.
@@ -98,13 +114,25 @@ pub enum JointDef {
         /// The direction of sliding (world, non-zero).
         axis: [f32; 2],
         /// Bounds of the translation (m).
-        #[serde(default, deserialize_with = "present", skip_serializing_if = "Option::is_none")]
+        #[serde(
+            default,
+            deserialize_with = "present",
+            skip_serializing_if = "Option::is_none"
+        )]
         limit: Option<[f32; 2]>,
         /// Drives the speed along the axis.
-        #[serde(default, deserialize_with = "present", skip_serializing_if = "Option::is_none")]
+        #[serde(
+            default,
+            deserialize_with = "present",
+            skip_serializing_if = "Option::is_none"
+        )]
         motor: Option<LinearMotor>,
         /// Pulls the translation back to 0.
-        #[serde(default, deserialize_with = "present", skip_serializing_if = "Option::is_none")]
+        #[serde(
+            default,
+            deserialize_with = "present",
+            skip_serializing_if = "Option::is_none"
+        )]
         spring: Option<Spring>,
         /// Whether the two bodies touch.
         #[serde(default, skip_serializing_if = "is_false")]
@@ -119,13 +147,25 @@ pub enum JointDef {
         /// The suspension's direction (world, non-zero).
         axis: [f32; 2],
         /// Bounds of the translation (m).
-        #[serde(default, deserialize_with = "present", skip_serializing_if = "Option::is_none")]
+        #[serde(
+            default,
+            deserialize_with = "present",
+            skip_serializing_if = "Option::is_none"
+        )]
         limit: Option<[f32; 2]>,
         /// Drives the wheel's rotation.
-        #[serde(default, deserialize_with = "present", skip_serializing_if = "Option::is_none")]
+        #[serde(
+            default,
+            deserialize_with = "present",
+            skip_serializing_if = "Option::is_none"
+        )]
         motor: Option<AngularMotor>,
         /// The suspension (default 1 Hz, damping ratio 0.7).
-        #[serde(default, deserialize_with = "present", skip_serializing_if = "Option::is_none")]
+        #[serde(
+            default,
+            deserialize_with = "present",
+            skip_serializing_if = "Option::is_none"
+        )]
         spring: Option<Spring>,
         /// Whether the two bodies touch.
         #[serde(default, skip_serializing_if = "is_false")]
@@ -138,13 +178,25 @@ pub enum JointDef {
         /// The anchor on A and the anchor on B (m, world).
         anchors: [[f32; 2]; 2],
         /// Rest length (m; default: the anchors' distance at the start).
-        #[serde(default, deserialize_with = "present", skip_serializing_if = "Option::is_none")]
+        #[serde(
+            default,
+            deserialize_with = "present",
+            skip_serializing_if = "Option::is_none"
+        )]
         length: Option<f32>,
         /// Bounds of the length (m), with a spring.
-        #[serde(default, deserialize_with = "present", skip_serializing_if = "Option::is_none")]
+        #[serde(
+            default,
+            deserialize_with = "present",
+            skip_serializing_if = "Option::is_none"
+        )]
         limit: Option<[f32; 2]>,
         /// Makes the length soft; `{"hertz": 0}` with a limit `[0, l]` is a rope.
-        #[serde(default, deserialize_with = "present", skip_serializing_if = "Option::is_none")]
+        #[serde(
+            default,
+            deserialize_with = "present",
+            skip_serializing_if = "Option::is_none"
+        )]
         spring: Option<Spring>,
         /// Whether the two bodies touch.
         #[serde(default, skip_serializing_if = "is_false")]
@@ -177,10 +229,18 @@ pub enum JointDef {
         /// Body A and body B, by index.
         bodies: [usize; 2],
         /// B's origin in A's frame (m; default: where B starts).
-        #[serde(default, deserialize_with = "present", skip_serializing_if = "Option::is_none")]
+        #[serde(
+            default,
+            deserialize_with = "present",
+            skip_serializing_if = "Option::is_none"
+        )]
         linear_offset: Option<[f32; 2]>,
         /// B's angle less A's (rad; default: as they start).
-        #[serde(default, deserialize_with = "present", skip_serializing_if = "Option::is_none")]
+        #[serde(
+            default,
+            deserialize_with = "present",
+            skip_serializing_if = "Option::is_none"
+        )]
         angular_offset: Option<f32>,
         /// Most force (N, >= 0; default 1).
         #[serde(default = "one")]

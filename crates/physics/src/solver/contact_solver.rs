@@ -49,9 +49,15 @@ pub struct Softness {
 
 impl Softness {
     /// Implicit Euler on a spring of `hertz` and damping ratio `zeta` over a substep `h`.
+    /// A hertz of 0 is rigid: no position bias, the full velocity correction (Box2D's
+    /// `b2MakeSoft`; a joint's rigid rows at `joint_hertz` 0).
     pub fn new(hertz: f32, zeta: f32, h: f32) -> Softness {
         if hertz == 0.0 {
-            return Softness::default();
+            return Softness {
+                bias_rate: 0.0,
+                mass_scale: 1.0,
+                impulse_scale: 0.0,
+            };
         }
         let omega = 2.0 * std::f32::consts::PI * hertz;
         let a1 = 2.0 * zeta + h * omega;
