@@ -9,6 +9,7 @@
 //! current error follows without a transform (SOFT_STEP.md 2.5). Accumulated impulses carry
 //! over from step to step (warm starting), as a contact's do.
 
+pub mod chain;
 pub mod def;
 mod distance;
 mod motor;

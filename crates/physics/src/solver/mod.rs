@@ -121,6 +121,10 @@ pub struct Solver {
     pub joint_order: Vec<u32>,
     /// See `joint_order`.
     pub joint_ranges: Vec<Range<usize>>,
+    /// The chains of hinges (joint slots in path order), solved each as one system at the
+    /// start of the overflow stage, and each chain's range there (and in `joint_order`).
+    chain_order: Vec<u32>,
+    chain_ranges: Vec<Range<usize>>,
     /// This step's copies of the awake joints, in stage order (`joint_order`), prepared: the
     /// passes stream through them as they do through the contact constraints, and
     /// [`Solver::store_joints`] writes them back.
@@ -184,7 +188,7 @@ impl Solver {
     #[allow(clippy::too_many_arguments)]
     pub fn prepare<C: SolverContact>(
         &mut self,
-        joints: &[Touching],
+        (joints, chains, chain_ranges): (&[Touching], &[u32], &[Range<usize>]),
         touching: &[Touching],
         contacts: &[C],
         body_count: usize,
@@ -209,6 +213,8 @@ impl Solver {
         let same = self.colored_for == Some(key)
             && touching.len() == self.colored_pairs.len()
             && joints.len() == self.colored_joints.len()
+            && chains == self.chain_order.as_slice()
+            && chain_ranges == self.chain_ranges.as_slice()
             && joints
                 .iter()
                 .zip(&self.colored_joints)
@@ -223,6 +229,10 @@ impl Solver {
                 &|a, b| a && b,
             );
         if !same {
+            self.chain_order.clear();
+            self.chain_order.extend_from_slice(chains);
+            self.chain_ranges.clear();
+            self.chain_ranges.extend_from_slice(chain_ranges);
             self.color(joints, touching, body_count, spread, min_check);
             self.colored_for = Some(key);
         }
@@ -500,16 +510,21 @@ impl Solver {
                 c as u8
             })
             .collect();
+        // The chains open the overflow's range.
+        let chained = self.chain_order.len();
         let mut start = [0usize; COLOR_COUNT];
         self.joint_ranges.clear();
         let mut offset = 0;
         for color in std::iter::once(OVERFLOW).chain(0..OVERFLOW) {
-            start[color] = offset;
-            self.joint_ranges.push(offset..offset + counts[color]);
-            offset += counts[color];
+            let extra = if color == OVERFLOW { chained } else { 0 };
+            start[color] = offset + extra;
+            self.joint_ranges
+                .push(offset..offset + extra + counts[color]);
+            offset += extra + counts[color];
         }
         self.joint_order.clear();
-        self.joint_order.resize(joints.len(), 0);
+        self.joint_order.resize(chained + joints.len(), 0);
+        self.joint_order[..chained].copy_from_slice(&self.chain_order);
         for (j, &c) in joints.iter().zip(&colors) {
             self.joint_order[start[c as usize]] = j.contact;
             start[c as usize] += 1;
@@ -688,6 +703,7 @@ impl Solver {
             use_wide: self.use_wide,
             use_avx: self.use_avx,
             joints: SharedSlice::new(joints),
+            chains: &self.chain_ranges,
         };
         if workers == 1 {
             let states = BodyStates::exclusive(states);
@@ -957,6 +973,8 @@ struct Passes<'a> {
     use_wide: bool,
     use_avx: bool,
     joints: SharedSlice<'a, Joint>,
+    /// The chains' ranges of the joints (in the overflow stage's).
+    chains: &'a [Range<usize>],
 }
 
 impl Passes<'_> {
@@ -974,6 +992,25 @@ impl Passes<'_> {
             inv_h: 1.0 / p.h,
             warm_starting: true,
         };
+        // The chains open the overflow stage, whose one block holds them all.
+        let mut range = range;
+        if stage.color == 0
+            && let Some(last) = self.chains.last()
+            && range.start == 0
+            && range.end >= last.end
+        {
+            for chain in self.chains {
+                // SAFETY: the overflow stage runs on one worker, alone.
+                let joints = unsafe { self.joints.range_mut(chain.clone()) };
+                match stage.pass {
+                    Pass::WarmStart => joints.iter_mut().for_each(|j| j.warm_start(states)),
+                    Pass::Solve => crate::joint::chain::solve(joints, states, &ctx, true),
+                    Pass::Relax => crate::joint::chain::solve(joints, states, &ctx, false),
+                    _ => {}
+                }
+            }
+            range.start = last.end;
+        }
         // SAFETY: the blocks of a stage are disjoint ranges of the joints, whose bodies no
         // other block of the stage writes (the colouring).
         for joint in unsafe { self.joints.range_mut(range) } {

@@ -6,6 +6,7 @@ use glam::Vec2;
 
 use super::{World, WorldError, pair_key};
 use crate::id::{BodyId, JointId};
+use crate::joint::chain::{self, Link};
 use crate::joint::def::JointFrame;
 use crate::joint::{Joint, JointBody, JointContext, JointDef, JointKind, Mouse};
 use crate::math::Transform;
@@ -243,11 +244,14 @@ impl World {
         Ok([on_a, on_b])
     }
 
-    /// Lists the awake joints in slot order, with their dynamic bodies, for the colouring
-    /// (reads the joints and the bodies' kinds and awake flags).
+    /// Lists the awake joints in slot order, with their dynamic bodies, for the colouring,
+    /// less those that chains take (reads the joints and the bodies' kinds and awake flags;
+    /// writes the joint list and the chains).
     pub(super) fn list_awake_joints(&mut self) {
         self.joint_list.clear();
         if self.joint_slots.live() == 0 {
+            self.chain_list.clear();
+            self.chain_ranges.clear();
             return;
         }
         let awake_dynamic = |i: u32| {
@@ -275,12 +279,49 @@ impl World {
                 dynamic: [if mouse { NOT_DYNAMIC } else { side(a) }, side(b)],
             });
         }
+        self.find_chains();
+    }
+
+    /// Takes the chains of hinges out of the joint list (see `joint::chain`), searching
+    /// again only when the awake eligible joints differ from last step's.
+    fn find_chains(&mut self) {
+        let links: Vec<Link> = self
+            .joint_list
+            .iter()
+            .filter(|t| chain::eligible(&self.joints[t.contact as usize]))
+            .map(|t| Link {
+                slot: t.contact,
+                dynamic: t.dynamic,
+            })
+            .collect();
+        let same = links.len() == self.chain_links.len()
+            && links
+                .iter()
+                .zip(&self.chain_links)
+                .all(|(a, b)| a.slot == b.slot && a.dynamic == b.dynamic);
+        if !same {
+            let (order, ranges) = chain::find(&links, self.sims.len());
+            self.chain_list = order;
+            self.chain_ranges = ranges;
+            self.chain_links = links;
+        }
+        if self.chain_list.is_empty() {
+            return;
+        }
+        let mut in_chain = std::mem::take(&mut self.chain_flags);
+        in_chain.clear();
+        in_chain.resize(self.joints.len(), false);
+        for &slot in &self.chain_list {
+            in_chain[slot as usize] = true;
+        }
+        self.joint_list.retain(|t| !in_chain[t.contact as usize]);
+        self.chain_flags = in_chain;
     }
 
     /// After the colouring: copies the awake joints into the solver in stage order and
     /// prepares them there (reads bodies' poses and masses; each copy written once).
     pub(super) fn prepare_solver_joints(&mut self, h: f32, spread: Spread<'_>, min: usize) {
-        if self.joint_list.is_empty() {
+        if self.joint_list.is_empty() && self.chain_list.is_empty() {
             return;
         }
         let ctx = JointContext {

@@ -368,6 +368,14 @@ pub struct World {
     joint_list: Vec<Touching>,
     /// Last step's substep rate, for the joints' reaction forces.
     last_inv_h: f32,
+    /// This step's chains of hinges (slots in path order) and each chain's range; their
+    /// joints are not in `joint_list`.
+    chain_list: Vec<u32>,
+    chain_ranges: Vec<std::ops::Range<usize>>,
+    /// The eligible joints the chains were found among (searched again when they change),
+    /// and a per-slot scratch flag.
+    chain_links: Vec<crate::joint::chain::Link>,
+    chain_flags: Vec<bool>,
 }
 
 impl World {
@@ -421,6 +429,10 @@ impl World {
             no_collide: FxHashMap::default(),
             joint_list: Vec::new(),
             last_inv_h: 0.0,
+            chain_list: Vec::new(),
+            chain_ranges: Vec::new(),
+            chain_links: Vec::new(),
+            chain_flags: Vec::new(),
         }
     }
 

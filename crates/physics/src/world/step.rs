@@ -501,7 +501,7 @@ impl World {
         self.last_inv_h = inv_h;
         self.solver.use_wide = s.simd;
         self.solver.prepare(
-            &self.joint_list,
+            (&self.joint_list, &self.chain_list, &self.chain_ranges),
             &self.touching,
             &self.contacts,
             self.solver_bodies.len(),
@@ -528,7 +528,7 @@ impl World {
         };
         // Below its threshold the solver runs on one worker: waking the others for every
         // stage (a hundred a step) costs more than their share of a small colour.
-        let constraints = self.touching.len() + self.joint_list.len();
+        let constraints = self.touching.len() + self.joint_list.len() + self.chain_list.len();
         let solve_spread = spread.for_stage(constraints, self.wide.solve);
         let (caps, workers) = self.solver.run_substeps(
             &mut self.states,
@@ -554,7 +554,7 @@ impl World {
                 mp.normal_velocity = r.relative_velocity;
             },
         );
-        if !self.joint_list.is_empty() {
+        if !self.joint_list.is_empty() || !self.chain_list.is_empty() {
             self.solver
                 .store_joints(&mut self.joints, spread, self.wide.prepare);
         }
