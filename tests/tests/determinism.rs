@@ -511,18 +511,19 @@ fn every_joint() -> SceneDef {
 
 #[test]
 fn joints_are_bit_identical_on_1_to_4_real_workers() {
-    // joint_grid: 19794 joints, solved on every worker (strict); 40 steps. tumbler: the
-    // motor-driven drum churning 2025 boxes, 60 steps. every_joint: each joint type, an
-    // overflow of joints, sleeping on, 240 steps (4 s: the chain and the springs settle).
+    // joint_grid: 19794 joints, solved on every worker (strict); 12 steps (the debug build
+    // CI runs takes seconds a step for it on 4 workers). tumbler: the motor-driven drum
+    // churning 2025 boxes, 30 steps. every_joint: each joint type, an overflow of joints, a
+    // chain solved as one, sleeping on, 240 steps (4 s: the chain and the springs settle).
     let grid = tumble_scene::builtin::build("joint_grid").expect("joint_grid");
-    let (one, _) = run_workers_with(&grid, 40, 1, true);
+    let (one, _) = run_workers_with(&grid, 12, 1, true);
     for workers in 2..=4 {
-        let (other, _) = run_workers_with(&grid, 40, workers, true);
+        let (other, _) = run_workers_with(&grid, 12, workers, true);
         assert_same(&one, &other);
     }
     let tumbler = tumble_scene::builtin::build("tumbler").expect("tumbler");
     let every = every_joint();
-    for (scene, steps) in [(&tumbler, 60), (&every, 240)] {
+    for (scene, steps) in [(&tumbler, 30), (&every, 240)] {
         let (one, overflow) = run_workers_with(scene, steps, 1, false);
         if scene.name == "every_joint" {
             assert!(overflow > 0, "the hub's joints reach the overflow");

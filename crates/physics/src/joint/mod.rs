@@ -86,8 +86,8 @@ pub struct Joint {
     pub damping_ratio: f32,
     /// The type, its settings and impulses.
     pub kind: JointKind,
-    /// What this step's prepare computed.
-    #[serde(skip)]
+    /// What this step's prepare computed (kept in snapshots: the reaction forces read it).
+    #[serde(default)]
     pub(crate) step: JointStep,
 }
 
@@ -110,7 +110,7 @@ pub struct JointBody {
 
 /// Per-step data of a joint: both bodies' masses, the frames turned into the world and taken
 /// relative to the centres of mass, and the separation of the centres at the step's start.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub(crate) struct JointStep {
     pub inv_mass_a: f32,
     pub inv_mass_b: f32,

@@ -37,7 +37,7 @@ impl Default for BodyState {
 
 /// Spring-damper coefficients of a soft constraint for one substep length
 /// (Box2D `b2MakeSoft`; Catto, "Solver2D", 2024, soft step).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Softness {
     /// How fast overlap is pushed out (1/s).
     pub bias_rate: f32,

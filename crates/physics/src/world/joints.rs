@@ -116,6 +116,7 @@ impl World {
     /// Puts a built joint in a slot, links its bodies' islands and keeps them apart unless
     /// it lets them touch.
     pub(super) fn insert_joint(&mut self, joint: Joint) -> JointId {
+        self.sync_joints();
         let (index, generation, fresh) = self.joint_slots.take();
         let (a, b) = (joint.body_a, joint.body_b);
         let keep_apart = !joint.collide_connected;
@@ -161,6 +162,7 @@ impl World {
     }
 
     fn remove_joint(&mut self, k: usize) {
+        self.sync_joints();
         let joint = self.joints[k].clone();
         // The slot keeps an unsolved stand-in until it is reused.
         self.joints[k].kind = JointKind::Filter;
@@ -214,13 +216,14 @@ impl World {
 
     /// A joint: its bodies, frames, settings and impulses.
     pub fn joint(&self, id: JointId) -> Result<&Joint, WorldError> {
-        Ok(&self.joints[self.joint_slot(id)?])
+        Ok(self.current(self.joint_slot(id)?))
     }
 
     /// A joint's type and settings, to change between steps (a motor's speed, a limit);
     /// its bodies wake.
     pub fn joint_kind_mut(&mut self, id: JointId) -> Result<&mut JointKind, WorldError> {
         let k = self.joint_slot(id)?;
+        self.sync_joints();
         let (a, b) = (self.joints[k].body_a, self.joints[k].body_b);
         self.wake_body(a);
         self.wake_body(b);
@@ -229,7 +232,7 @@ impl World {
 
     /// The force (N, on body B) and torque (N·m) the joint applied in the last step.
     pub fn joint_reaction(&self, id: JointId) -> Result<(Vec2, f32), WorldError> {
-        Ok(self.joints[self.joint_slot(id)?].reaction(self.last_inv_h))
+        Ok(self.current(self.joint_slot(id)?).reaction(self.last_inv_h))
     }
 
     /// The joint's anchors in the world now: on body A and on body B (for a mouse joint,
@@ -329,6 +332,15 @@ impl World {
             inv_h: 1.0 / h,
             warm_starting: self.settings.warm_starting,
         };
+        if self.joint_copies {
+            // The order changed (or not): the solver tells; the old copies go back first
+            // when it will copy afresh.
+            if self.solver.joint_order_changed() {
+                self.solver.store_joints(&mut self.joints, spread, min);
+                self.joint_copies = false;
+            }
+        }
+        let copies = self.joint_copies;
         let (sims, records, masses) = (&self.sims, &self.records, &self.solver_bodies);
         let body = |i: u32| {
             let i = i as usize;
@@ -342,7 +354,28 @@ impl World {
             }
         };
         self.solver
-            .prepare_joints(&self.joints, &body, &ctx, spread, min);
+            .prepare_joints(&self.joints, copies, &body, &ctx, spread, min);
+        self.joint_copies = true;
+    }
+
+    /// Writes the solver's live joint copies back, so the world's joints are current (before
+    /// the world reads them whole or edits one).
+    pub(super) fn sync_joints(&mut self) {
+        if self.joint_copies {
+            self.solver
+                .store_joints(&mut self.joints, Spread::INLINE, usize::MAX);
+            self.joint_copies = false;
+        }
+    }
+
+    /// A joint as it is now: the solver's live copy if it holds one, else the world's.
+    pub(super) fn current(&self, k: usize) -> &Joint {
+        if self.joint_copies
+            && let Some(j) = self.solver.joint_copy(k as u32)
+        {
+            return j;
+        }
+        &self.joints[k]
     }
 }
 

@@ -376,6 +376,9 @@ pub struct World {
     /// and a per-slot scratch flag.
     chain_links: Vec<crate::joint::chain::Link>,
     chain_flags: Vec<bool>,
+    /// The solver holds the awake joints' live state (impulses): `joints` is stale for them
+    /// until `sync_joints` (see `Solver::prepare_joints`).
+    joint_copies: bool,
 }
 
 impl World {
@@ -433,6 +436,7 @@ impl World {
             chain_ranges: Vec::new(),
             chain_links: Vec::new(),
             chain_flags: Vec::new(),
+            joint_copies: false,
         }
     }
 

@@ -45,6 +45,9 @@ pub struct WorldSnapshot {
     joint_slots: Slots,
     #[serde(default)]
     joints: Vec<crate::joint::Joint>,
+    /// The last step's substep rate, which the joints' reaction forces are read with.
+    #[serde(default)]
+    last_inv_h: f32,
 }
 
 impl WorldSnapshot {
@@ -104,7 +107,11 @@ impl World {
             speed_caps: self.speed_caps,
             non_finite_bodies: self.non_finite_bodies,
             joint_slots: self.joint_slots.clone(),
-            joints: self.joints.clone(),
+            // The solver's live copies where it holds them (their impulses are current).
+            joints: (0..self.joints.len())
+                .map(|k| self.current(k).clone())
+                .collect(),
+            last_inv_h: self.last_inv_h,
         }
     }
 
@@ -257,6 +264,7 @@ impl World {
                     .or_insert(0) += 1;
             }
         }
+        world.last_inv_h = snapshot.last_inv_h;
         world.joint_slots = snapshot.joint_slots;
         world.joints = snapshot.joints;
         world.proxies_changed = true;

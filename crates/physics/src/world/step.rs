@@ -554,10 +554,6 @@ impl World {
                 mp.normal_velocity = r.relative_velocity;
             },
         );
-        if !self.joint_list.is_empty() || !self.chain_list.is_empty() {
-            self.solver
-                .store_joints(&mut self.joints, spread, self.wide.prepare);
-        }
         profile.store_impulses_ms = ms(t);
     }
 
