@@ -103,3 +103,22 @@ fn a_wide_step_allocates_nothing() {
     assert!(!inline, "no step went wide");
     assert_eq!(allocations, 0, "100 wide steps allocated");
 }
+
+#[test]
+fn jointed_scenes_step_without_allocating() {
+    // The bridge (one chain of 161 hinges, solved as one system) and the stretched chain
+    // pulling itself together, after 300 steps (at 60 the swinging bridge still grew the
+    // broad phase's moved list three times in 100 steps): their joint lists, chains and
+    // stage order repeat, so the solver prepares its kept joint copies in place; inline on
+    // one thread and with every stage split over two, nothing is allocated.
+    let _turn = turn();
+    for (name, wide) in [
+        ("bridge", WideThresholds::default()),
+        ("stretched_chain", WideThresholds::default()),
+        ("bridge", WideThresholds::ALWAYS),
+    ] {
+        let threads = if wide == WideThresholds::ALWAYS { 2 } else { 1 };
+        let (allocations, _) = allocations_in_100_steps(name, 300, threads, wide);
+        assert_eq!(allocations, 0, "{name}: 100 steps allocated");
+    }
+}

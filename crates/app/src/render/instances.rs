@@ -514,7 +514,8 @@ impl Instances {
 
     /// Every joint but the mouse's (drawn by [`Instances::add_drag`]), as Box2D draws them:
     /// body A's centre to its anchor, anchor to anchor, body B's anchor to its centre, with a
-    /// marker at each anchor; a distance joint is the line between its anchors. With
+    /// marker at each anchor; a distance joint is the line between its anchors; a slider's
+    /// axis and limit, a hinge's limit as spokes at its bounds. With
     /// `forces`, each joint's reaction force on B as a line from B's anchor (a pixel per
     /// newton, at most 100 px).
     pub fn add_joints(&mut self, world: &World, forces: bool, camera: &Camera) {
@@ -540,6 +541,36 @@ impl Instances {
             }
             self.marker(pa, 2.5 * px, color);
             self.marker(pb, 2.5 * px, color);
+            // A slider's axis (fixed in A) and its limit's ends; a hinge's limit as two
+            // spokes from the hinge at the bounds, counted from frame A.
+            let frame_a = world
+                .body(joint.body_a as usize)
+                .rotation
+                .then_from(joint.local_a.q);
+            let limit_color = [1.0, 0.8, 0.3, 0.9];
+            match &joint.kind {
+                JointKind::Prismatic(tumble_physics::joint::Prismatic { limit, .. })
+                | JointKind::Wheel(tumble_physics::joint::Wheel { limit, .. }) => {
+                    let axis = frame_a.apply(Vec2::X);
+                    let reach = 40.0 * px;
+                    self.line(pa - axis * reach, pa + axis * reach, [0.5, 0.6, 0.9, 0.8]);
+                    if let Some([lower, upper]) = limit {
+                        let across = Vec2::new(-axis.y, axis.x) * 4.0 * px;
+                        for end in [pa + axis * *lower, pa + axis * *upper] {
+                            self.line(end - across, end + across, limit_color);
+                        }
+                    }
+                }
+                JointKind::Revolute(r) => {
+                    if let Some([lower, upper]) = r.limit {
+                        for angle in [lower, upper] {
+                            let spoke = frame_a.then_from(tumble_physics::Rot::from_angle(angle));
+                            self.line(pb, pb + spoke.apply(Vec2::X) * 20.0 * px, limit_color);
+                        }
+                    }
+                }
+                _ => {}
+            }
             if forces && let Ok((force, _)) = world.joint_reaction(id) {
                 let len = force.length();
                 if len > 0.0 {

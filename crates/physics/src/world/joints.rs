@@ -288,15 +288,18 @@ impl World {
     /// Takes the chains of hinges out of the joint list (see `joint::chain`), searching
     /// again only when the awake eligible joints differ from last step's.
     fn find_chains(&mut self) {
-        let links: Vec<Link> = self
-            .joint_list
-            .iter()
-            .filter(|t| chain::eligible(&self.joints[t.contact as usize]))
-            .map(|t| Link {
-                slot: t.contact,
-                dynamic: t.dynamic,
-            })
-            .collect();
+        // Into a kept buffer: a steady step allocates nothing.
+        let mut links = std::mem::take(&mut self.chain_scratch);
+        links.clear();
+        links.extend(
+            self.joint_list
+                .iter()
+                .filter(|t| chain::eligible(&self.joints[t.contact as usize]))
+                .map(|t| Link {
+                    slot: t.contact,
+                    dynamic: t.dynamic,
+                }),
+        );
         let same = links.len() == self.chain_links.len()
             && links
                 .iter()
@@ -306,8 +309,9 @@ impl World {
             let (order, ranges) = chain::find(&links, self.sims.len());
             self.chain_list = order;
             self.chain_ranges = ranges;
-            self.chain_links = links;
+            std::mem::swap(&mut self.chain_links, &mut links);
         }
+        self.chain_scratch = links;
         if self.chain_list.is_empty() {
             return;
         }

@@ -375,6 +375,7 @@ pub struct World {
     /// The eligible joints the chains were found among (searched again when they change),
     /// and a per-slot scratch flag.
     chain_links: Vec<crate::joint::chain::Link>,
+    chain_scratch: Vec<crate::joint::chain::Link>,
     chain_flags: Vec<bool>,
     /// The solver holds the awake joints' live state (impulses): `joints` is stale for them
     /// until `sync_joints` (see `Solver::prepare_joints`).
@@ -435,6 +436,7 @@ impl World {
             chain_list: Vec::new(),
             chain_ranges: Vec::new(),
             chain_links: Vec::new(),
+            chain_scratch: Vec::new(),
             chain_flags: Vec::new(),
             joint_copies: false,
         }
