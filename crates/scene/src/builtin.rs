@@ -43,6 +43,7 @@ const NAMES: &[&str] = &[
     "ball_and_chain",
     "bridge",
     "stretched_chain",
+    "ragdoll",
 ];
 
 /// All built-in scene names, in menu order.
@@ -79,6 +80,7 @@ pub fn build(name: &str) -> Option<SceneDef> {
         "ball_and_chain" => ball_and_chain(),
         "bridge" => bridge(),
         "stretched_chain" => stretched_chain(),
+        "ragdoll" => ragdoll(),
         _ => return None,
     };
     // Box2D's benchmark turns sleeping off in its pyramids and keeps it on in smash,
@@ -209,6 +211,10 @@ pub fn describe(name: &str) -> Option<&'static str> {
         "stretched_chain" => {
             "A chain of 40 discs whose hinges want them 1 m apart, started 2 m apart and hung from a fixed point, touching nothing (Solver2D's Stretched Chain). \
              Tests joint error recovery: the chain should pull itself together without exploding."
+        }
+        "ragdoll" => {
+            "A ragdoll of 11 capsule bones on revolute joints with limits and motor friction falls onto the ground (Solver2D's Ragdoll, Box2D's human). \
+             Tests a tree of limited joints under impact: the limbs must keep to their limits and settle without jitter."
         }
         "joint_grid" => {
             "Benchmark: a 100 x 100 grid of discs joined by 19794 revolute joints, hung from 7 static discs, no contacts (Box2D's joint_grid). \
@@ -1209,6 +1215,233 @@ fn stretched_chain() -> SceneDef {
     scene
 }
 
+/// One bone of Box2D's ragdoll (`shared/human.c`, `CreateHuman`) at scale 1: its parent,
+/// its centre, its capsule's half core length and radius (vertical), its linear damping, the
+/// share of the joint friction its hinge gets, the hinge's height and its limits (× π), and
+/// whether it carries a foot.
+struct Bone {
+    parent: Option<usize>,
+    y: f32,
+    core: (f32, f32),
+    radius: f32,
+    damping: f32,
+    friction: f32,
+    pivot: f32,
+    limit: [f32; 2],
+    foot: bool,
+}
+
+/// Box2D's human: hip, torso, head, left leg (upper, lower), right leg, left arm (upper,
+/// lower), right arm, in that order.
+const BONES: [Bone; 11] = [
+    Bone {
+        parent: None,
+        y: 0.95,
+        core: (-0.02, 0.02),
+        radius: 0.095,
+        damping: 0.0,
+        friction: 1.0,
+        pivot: 0.0,
+        limit: [0.0, 0.0],
+        foot: false,
+    },
+    Bone {
+        parent: Some(0),
+        y: 1.2,
+        core: (-0.135, 0.135),
+        radius: 0.09,
+        damping: 0.0,
+        friction: 0.5,
+        pivot: 1.0,
+        limit: [-0.25, 0.0],
+        foot: false,
+    },
+    Bone {
+        parent: Some(1),
+        y: 1.475,
+        core: (-0.038, 0.039),
+        radius: 0.075,
+        damping: 0.1,
+        friction: 0.25,
+        pivot: 1.4,
+        limit: [-0.3, 0.1],
+        foot: false,
+    },
+    Bone {
+        parent: Some(0),
+        y: 0.775,
+        core: (-0.125, 0.125),
+        radius: 0.06,
+        damping: 0.0,
+        friction: 1.0,
+        pivot: 0.9,
+        limit: [-0.05, 0.4],
+        foot: false,
+    },
+    Bone {
+        parent: Some(3),
+        y: 0.475,
+        core: (-0.155, 0.125),
+        radius: 0.045,
+        damping: 0.0,
+        friction: 0.5,
+        pivot: 0.625,
+        limit: [-0.5, -0.02],
+        foot: true,
+    },
+    Bone {
+        parent: Some(0),
+        y: 0.775,
+        core: (-0.125, 0.125),
+        radius: 0.06,
+        damping: 0.0,
+        friction: 1.0,
+        pivot: 0.9,
+        limit: [-0.05, 0.4],
+        foot: false,
+    },
+    Bone {
+        parent: Some(5),
+        y: 0.475,
+        core: (-0.155, 0.125),
+        radius: 0.045,
+        damping: 0.0,
+        friction: 0.5,
+        pivot: 0.625,
+        limit: [-0.5, -0.02],
+        foot: true,
+    },
+    Bone {
+        parent: Some(1),
+        y: 1.225,
+        core: (-0.125, 0.125),
+        radius: 0.035,
+        damping: 0.0,
+        friction: 0.5,
+        pivot: 1.35,
+        limit: [-0.1, 0.8],
+        foot: false,
+    },
+    Bone {
+        parent: Some(7),
+        y: 0.975,
+        core: (-0.125, 0.125),
+        radius: 0.03,
+        damping: 0.1,
+        friction: 0.1,
+        pivot: 1.1,
+        limit: [-0.2, 0.3],
+        foot: false,
+    },
+    Bone {
+        parent: Some(1),
+        y: 1.225,
+        core: (-0.125, 0.125),
+        radius: 0.035,
+        damping: 0.0,
+        friction: 0.5,
+        pivot: 1.35,
+        limit: [-0.1, 0.8],
+        foot: false,
+    },
+    Bone {
+        parent: Some(9),
+        y: 0.975,
+        core: (-0.125, 0.125),
+        radius: 0.03,
+        damping: 0.1,
+        friction: 0.1,
+        pivot: 1.1,
+        limit: [-0.2, 0.3],
+        foot: false,
+    },
+];
+
+/// Adds Box2D's human at `at` (its feet's level) to `scene`: capsule bones (friction 0.2,
+/// filter group −`group` so one human's bones never touch, category 2, mask 1 | 2), feet of
+/// a rounded quadrilateral that touch only the ground (category 2, mask 1, friction 0.05),
+/// each bone hinged to its parent with its limits and motor friction (a motor at 0 rad/s of
+/// `friction_torque` × the bone's share) and, with `hertz` > 0, a spring.
+fn human(
+    scene: &mut SceneDef,
+    at: [f32; 2],
+    friction_torque: f32,
+    hertz: f32,
+    damping_ratio: f32,
+    group: i64,
+) {
+    use tumble_physics::joint::Spring;
+    let body_filter = Filter {
+        category: 2,
+        mask: 1 | 2,
+        group: -group,
+    };
+    let foot_filter = Filter {
+        category: 2,
+        mask: 1,
+        group: -group,
+    };
+    let first = scene.bodies.len();
+    for bone in &BONES {
+        let mut capsule = PartDef::new(ShapeDef::Capsule {
+            center1: [0.0, bone.core.0],
+            center2: [0.0, bone.core.1],
+            radius: bone.radius,
+        });
+        capsule.friction = Some(0.2);
+        capsule.filter = Some(body_filter);
+        let mut parts = vec![capsule];
+        if bone.foot {
+            let mut foot = PartDef::new(ShapeDef::Polygon {
+                vertices: vec![
+                    [-0.03, -0.185],
+                    [0.11, -0.185],
+                    [0.11, -0.16],
+                    [-0.03, -0.14],
+                ],
+                radius: 0.015,
+            });
+            foot.friction = Some(0.05);
+            foot.filter = Some(foot_filter);
+            parts.push(foot);
+        }
+        let index = scene.push(
+            BodyDef::compound(parts)
+                .at(at[0], at[1] + bone.y)
+                .damping(bone.damping, 0.0)
+                .filter(body_filter),
+        );
+        if let Some(parent) = bone.parent {
+            scene.joints.push(JointDef::Revolute {
+                bodies: [first + parent, index],
+                anchor: [at[0], at[1] + bone.pivot],
+                limit: Some([bone.limit[0] * PI, bone.limit[1] * PI]),
+                motor: Some(AngularMotor {
+                    speed: 0.0,
+                    max_torque: bone.friction * friction_torque,
+                }),
+                spring: (hertz > 0.0).then_some(Spring {
+                    hertz,
+                    damping_ratio,
+                }),
+                collide_connected: false,
+                anchor_b: None,
+            });
+        }
+    }
+}
+
+/// Solver2D's `Ragdoll`: a 40 × 2 m ground box with its top at 0, and Box2D's human
+/// (`human`) standing at (0, 4) with Solver2D's joint friction of 0.025 N·m and no springs;
+/// 300 steps.
+fn ragdoll() -> SceneDef {
+    let mut scene = SceneDef::new("ragdoll");
+    scene.steps = 300;
+    scene.push(static_box(20.0, 1.0, 0.0, -1.0));
+    human(&mut scene, [0.0, 4.0], 0.025, 0.0, 0.0, 1);
+    scene
+}
+
 /// Box2D `CreateSpinner`: a loop chain of 360 points, a circle of radius 40 centred at
 /// (0, 32), walked clockwise so it keeps things inside (friction 0.1); a paddle, a box of half
 /// extents 0.4 x 20 rounded by 0.2 (friction 0), spinning at 5 rad/s about (0, 12); and 6076
@@ -1294,7 +1527,7 @@ mod tests {
 
     #[test]
     fn every_name_builds_describes_and_validates() {
-        assert_eq!(names().len(), 26);
+        assert_eq!(names().len(), 27);
         for &name in names() {
             let scene = build(name).unwrap_or_else(|| panic!("{name} does not build"));
             assert_eq!(scene.name, name);
