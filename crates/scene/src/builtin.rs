@@ -1000,15 +1000,9 @@ fn junkyard_step(steps: u64, world: &mut tumble_physics::World) {
 }
 
 /// Box2D `CreateTumbler`: a 45 x 45 grid of 0.125 half-size boxes, 0.4 m apart, inside a
-/// 20 m container of 0.5 m thick walls centred at (0, 10); 750 steps.
-///
-/// Decision: the container is STATIC. Box2D's is one dynamic body of four shapes (density 50)
-/// driven by a revolving joint's motor at 25 deg/s. tumble has one shape per body and no
-/// joints, and a kinematic body moves in a straight line at constant velocity, so four
-/// kinematic walls given the container's spin (and the tangential velocity of their centres)
-/// would be right only at the first instant and would drift apart within a second or two,
-/// spilling the boxes. A static container keeps the body count, shapes and contact density
-/// but not the churn: the boxes drop 0.375 m and settle instead of tumbling.
+/// 20 m drum of four 0.5 m thick walls (one dynamic body of four shapes, density 50) centred
+/// at (0, 10), hinged there to the ground by a revolute motor at 25°/s with 1e8 N·m; 750
+/// steps. Box2D's ground body has no shape; `anchor_body` stands in for it.
 fn tumbler() -> SceneDef {
     let mut scene = SceneDef::new("tumbler");
     scene.steps = 750;
