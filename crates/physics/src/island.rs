@@ -1,6 +1,6 @@
 //! Persistent islands (Box2D v3's `island.c`): groups of dynamic bodies joined by touching
-//! contacts (and by joints, when they come). Two islands merge when a contact between them
-//! begins touching; an island is split only when it is about to sleep and a constraint
+//! contacts and by joints. Two islands merge when a contact between them begins touching
+//! or a joint joins them; an island is split only when it is about to sleep and a constraint
 //! inside it has gone since it was last whole, because splitting costs a walk of the island
 //! and most islands that lose a contact never sleep. Static and kinematic bodies belong to
 //! no island, so a pile on the ground is not one island with everything else on the ground.
