@@ -117,6 +117,7 @@ impl World {
     /// it lets them touch.
     pub(super) fn insert_joint(&mut self, joint: Joint) -> JointId {
         self.sync_joints();
+        self.joint_meta_stale = true;
         let (index, generation, fresh) = self.joint_slots.take();
         let (a, b) = (joint.body_a, joint.body_b);
         let keep_apart = !joint.collide_connected;
@@ -163,6 +164,7 @@ impl World {
 
     fn remove_joint(&mut self, k: usize) {
         self.sync_joints();
+        self.joint_meta_stale = true;
         let joint = self.joints[k].clone();
         // The slot keeps an unsolved stand-in until it is reused.
         self.joints[k].kind = JointKind::Filter;
@@ -224,6 +226,8 @@ impl World {
     pub fn joint_kind_mut(&mut self, id: JointId) -> Result<&mut JointKind, WorldError> {
         let k = self.joint_slot(id)?;
         self.sync_joints();
+        // A limit, motor or spring added or taken away changes whether it can join a chain.
+        self.joint_meta_stale = true;
         let (a, b) = (self.joints[k].body_a, self.joints[k].body_b);
         self.wake_body(a);
         self.wake_body(b);
@@ -257,16 +261,29 @@ impl World {
             self.chain_ranges.clear();
             return;
         }
+        // What the walk reads of each joint, kept compact (a joint is 200 bytes: reading each
+        // one's kind and bodies every step missed the cache on half of `joint_grid`'s list).
+        if self.joint_meta_stale {
+            self.joint_meta.clear();
+            self.joint_meta
+                .extend(self.joints.iter().enumerate().map(|(k, j)| JointMeta {
+                    bodies: [j.body_a, j.body_b],
+                    solved: self.joint_slots.is_alive(k) && j.solved(),
+                    mouse: matches!(j.kind, JointKind::Mouse(_)),
+                    chain: chain::eligible(j),
+                }));
+            self.joint_meta_stale = false;
+        }
         let awake_dynamic = |i: u32| {
             let i = i as usize;
             self.sims[i].kind == BodyKind::Dynamic && self.awake[i]
         };
-        for (k, j) in self.joints.iter().enumerate() {
-            if !self.joint_slots.is_alive(k) || !j.solved() {
+        for (k, m) in self.joint_meta.iter().enumerate() {
+            if !m.solved {
                 continue;
             }
-            let mouse = matches!(j.kind, JointKind::Mouse(_));
-            let (a, b) = (j.body_a, j.body_b);
+            let mouse = m.mouse;
+            let [a, b] = m.bodies;
             if !(awake_dynamic(b) || (!mouse && awake_dynamic(a))) {
                 continue;
             }
@@ -294,7 +311,7 @@ impl World {
         links.extend(
             self.joint_list
                 .iter()
-                .filter(|t| chain::eligible(&self.joints[t.contact as usize]))
+                .filter(|t| self.joint_meta[t.contact as usize].chain)
                 .map(|t| Link {
                     slot: t.contact,
                     dynamic: t.dynamic,
@@ -381,6 +398,17 @@ impl World {
         }
         &self.joints[k]
     }
+}
+
+/// What the step's walk over the joints reads of each (see `list_awake_joints`).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct JointMeta {
+    bodies: [u32; 2],
+    /// Alive and not a filter joint.
+    solved: bool,
+    mouse: bool,
+    /// It may join a chain (`joint::chain::eligible`).
+    chain: bool,
 }
 
 impl Joint {

@@ -380,6 +380,10 @@ pub struct World {
     /// The solver holds the awake joints' live state (impulses): `joints` is stale for them
     /// until `sync_joints` (see `Solver::prepare_joints`).
     joint_copies: bool,
+    /// Each joint slot's bodies and kind flags, for the step's walk; rebuilt when a joint is
+    /// made, destroyed or edited.
+    joint_meta: Vec<joints::JointMeta>,
+    joint_meta_stale: bool,
 }
 
 impl World {
@@ -439,6 +443,8 @@ impl World {
             chain_scratch: Vec::new(),
             chain_flags: Vec::new(),
             joint_copies: false,
+            joint_meta: Vec::new(),
+            joint_meta_stale: true,
         }
     }
 
