@@ -377,21 +377,12 @@ fn every_joint() -> SceneDef {
             .kind(BodyKind::Static)
             .at(0.0, -0.5),
     );
-    let hinge = |bodies, anchor| JointDef::Revolute {
-        bodies,
-        anchor,
-        limit: None,
-        motor: None,
-        spring: None,
-        collide_connected: false,
-        anchor_b: None,
-    };
     // The chain, hanging sideways from (−20, 12) so it swings.
     let mut prev = ground;
     for k in 0..10 {
         let x = -20.0 + 0.5 + k as f32;
         let link = scene.push(BodyDef::new(rect(0.5, 0.1)).at(x, 12.0));
-        let mut joint = hinge([prev, link], [x - 0.5, 12.0]);
+        let mut joint = JointDef::hinge([prev, link], [x - 0.5, 12.0]);
         if let JointDef::Revolute { limit, spring, .. } = &mut joint {
             match k {
                 1 => *limit = Some([-0.5, 0.5]),

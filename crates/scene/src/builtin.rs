@@ -1078,11 +1078,15 @@ fn joint_grid() -> SceneDef {
                     .filter(filter),
             );
             if i > 0 {
-                scene.joints.push(hinge([body - 1, body], [x, y + 0.5]));
+                scene
+                    .joints
+                    .push(JointDef::hinge([body - 1, body], [x, y + 0.5]));
             }
             let left_fixed = k > 0 && (N / 2 - 3..=N / 2 + 3).contains(&(k - 1)) && i == 0;
             if k > 0 && !(fixed && left_fixed) {
-                scene.joints.push(hinge([body - N, body], [x - 0.5, y]));
+                scene
+                    .joints
+                    .push(JointDef::hinge([body - N, body], [x - 0.5, y]));
             }
         }
     }
@@ -1091,23 +1095,10 @@ fn joint_grid() -> SceneDef {
 
 /// A static body standing in for Box2D's ground body without shapes, which joints hang from:
 /// a scene's body needs a shape, so it carries a 0.1 m disc 1 km below, where nothing reaches.
-fn anchor_body() -> BodyDef {
+pub fn anchor_body() -> BodyDef {
     BodyDef::new(circle(0.1))
         .kind(BodyKind::Static)
         .at(0.0, -1000.0)
-}
-
-/// A revolute joint without limit, motor or spring.
-fn hinge(bodies: [usize; 2], anchor: [f32; 2]) -> JointDef {
-    JointDef::Revolute {
-        bodies,
-        anchor,
-        limit: None,
-        motor: None,
-        spring: None,
-        collide_connected: false,
-        anchor_b: None,
-    }
 }
 
 /// Solver2D's `BallAndChain`: 40 capsules (core ±0.5, radius 0.125, density 20, damping 0.1
@@ -1133,7 +1124,7 @@ fn ball_and_chain() -> SceneDef {
         ));
         scene
             .joints
-            .push(hinge([prev, link], [2.0 * i as f32 * hx, y]));
+            .push(JointDef::hinge([prev, link], [2.0 * i as f32 * hx, y]));
         prev = link;
     }
     let radius = 8.0;
@@ -1142,7 +1133,7 @@ fn ball_and_chain() -> SceneDef {
     ));
     scene
         .joints
-        .push(hinge([prev, ball], [2.0 * COUNT as f32 * hx, y]));
+        .push(JointDef::hinge([prev, ball], [2.0 * COUNT as f32 * hx, y]));
     scene
 }
 
@@ -1165,12 +1156,12 @@ fn bridge() -> SceneDef {
         );
         scene
             .joints
-            .push(hinge([prev, plank], [base + i as f32, 20.0]));
+            .push(JointDef::hinge([prev, plank], [base + i as f32, 20.0]));
         prev = plank;
     }
     scene
         .joints
-        .push(hinge([prev, ground], [base + COUNT as f32, 20.0]));
+        .push(JointDef::hinge([prev, ground], [base + COUNT as f32, 20.0]));
     scene
 }
 

@@ -7,7 +7,8 @@ use std::f64::consts::PI;
 
 use anyhow::Result;
 use tumble_physics::joint::JointDef;
-use tumble_physics::{BodyDef, BodyKind, SceneDef, ShapeDef};
+use tumble_physics::{BodyDef, SceneDef, ShapeDef};
+use tumble_scene::builtin::anchor_body;
 
 use super::cases::{Case, MetricDef, Probe};
 use super::engines::Knobs;
@@ -45,24 +46,6 @@ fn joint_extras() -> Vec<Knobs> {
             ..d
         },
     ]
-}
-
-fn anchor_body() -> BodyDef {
-    BodyDef::new(ShapeDef::Circle { radius: 0.1 })
-        .kind(BodyKind::Static)
-        .at(0.0, -1000.0)
-}
-
-fn hinge(bodies: [usize; 2], anchor: [f32; 2]) -> JointDef {
-    JointDef::Revolute {
-        bodies,
-        anchor,
-        limit: None,
-        motor: None,
-        spring: None,
-        collide_connected: false,
-        anchor_b: None,
-    }
 }
 
 /// The complete elliptic integral of the first kind K(k), by the arithmetic-geometric mean:
@@ -122,7 +105,7 @@ fn pendulum() -> Case {
         BodyDef::new(ShapeDef::Circle { radius: r as f32 })
             .at((l * theta.sin()) as f32, (-l * theta.cos()) as f32),
     );
-    scene.joints.push(hinge([0, 1], [0.0, 0.0]));
+    scene.joints.push(JointDef::hinge([0, 1], [0.0, 0.0]));
     // Compound pendulum: I about the hinge = m (r²/2 + L²); small swings have
     // ω0² = m g L / I; at amplitude θ0 the period is 4 K(sin(θ0/2)) / ω0.
     let omega0 = (G * l / (0.5 * r * r + l * l)).sqrt();
@@ -216,7 +199,7 @@ fn hinged_rod() -> Case {
         })
         .at((l / 2.0) as f32, 0.0),
     );
-    scene.joints.push(hinge([0, 1], [0.0, 0.0]));
+    scene.joints.push(JointDef::hinge([0, 1], [0.0, 0.0]));
     // Energy: m g L/2 = ½ I ω², I = m (L² + t²)/12 + m (L/2)² about the hinge.
     let i_over_m = (l * l + t * t) / 12.0 + l * l / 4.0;
     let expected = (G * l / i_over_m).sqrt();
@@ -319,7 +302,9 @@ fn ball_and_chain(ratio: f64) -> Case {
             .at(0.0, y)
             .density(density),
         );
-        scene.joints.push(hinge([prev, link], [0.0, y + hx]));
+        scene
+            .joints
+            .push(JointDef::hinge([prev, link], [0.0, y + hx]));
         prev = link;
     }
     let bottom = top - LINKS as f32 * 2.0 * hx;
@@ -330,7 +315,9 @@ fn ball_and_chain(ratio: f64) -> Case {
         .at(0.0, bottom - ball_radius as f32)
         .density(ball_density as f32),
     );
-    scene.joints.push(hinge([prev, ball], [0.0, bottom]));
+    scene
+        .joints
+        .push(JointDef::hinge([prev, ball], [0.0, bottom]));
     let steps = 180;
     let key: &'static str = match ratio as u32 {
         10 => "ball_and_chain_10",

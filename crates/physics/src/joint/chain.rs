@@ -16,7 +16,7 @@
 
 use glam::Vec2;
 
-use super::{Joint, JointContext, JointKind, JointStep, Pair};
+use super::{Joint, JointKind, JointStep, Pair};
 use crate::parallel::BodyStates;
 
 /// Longest run solved as one system; a longer chain is solved in runs of this many joints,
@@ -118,10 +118,13 @@ fn shared(a: &Joint, b: &Joint) -> u32 {
 
 /// One pass over a chain's point rows, solved together (see the module's note). `joints`
 /// are consecutive along the path: each shares a dynamic body with the next.
-pub fn solve(joints: &mut [Joint], states: &BodyStates<'_>, ctx: &JointContext, use_bias: bool) {
-    for run in joints.chunks_mut(MAX_RUN) {
-        solve_run(run, states, ctx, use_bias);
-    }
+pub fn solve(joints: &mut [Joint], states: &BodyStates<'_>, use_bias: bool) {
+    ROWS.with_borrow_mut(|rows| {
+        for run in joints.chunks_mut(MAX_RUN) {
+            rows.clear();
+            solve_rows(run, states, use_bias, rows);
+        }
+    });
 }
 
 /// One joint's row of the block system, and its bodies' state.
@@ -143,13 +146,6 @@ struct Row {
 thread_local! {
     /// Each thread's rows, kept between solves: a steady step allocates nothing.
     static ROWS: std::cell::RefCell<Vec<Row>> = const { std::cell::RefCell::new(Vec::new()) };
-}
-
-fn solve_run(joints: &mut [Joint], states: &BodyStates<'_>, _ctx: &JointContext, bias: bool) {
-    ROWS.with_borrow_mut(|rows| {
-        rows.clear();
-        solve_rows(joints, states, bias, rows);
-    });
 }
 
 fn solve_rows(joints: &mut [Joint], states: &BodyStates<'_>, bias: bool, rows: &mut Vec<Row>) {

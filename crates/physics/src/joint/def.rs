@@ -51,6 +51,19 @@ fn present<'de, D: serde::Deserializer<'de>, T: Deserialize<'de>>(
     T::deserialize(d).map(Some)
 }
 
+impl Spring {
+    /// The soft-step coefficients of an optional spring for substep `h` (none: zero, a
+    /// spring that does nothing).
+    pub(crate) fn softness(
+        spring: Option<Spring>,
+        h: f32,
+    ) -> crate::solver::contact_solver::Softness {
+        spring.map_or(Default::default(), |sp| {
+            crate::solver::contact_solver::Softness::new(sp.hertz, sp.damping_ratio, h)
+        })
+    }
+}
+
 fn is_false(b: &bool) -> bool {
     !*b
 }
@@ -273,6 +286,20 @@ pub struct JointFrame {
 }
 
 impl JointDef {
+    /// A plain hinge between `bodies` at `anchor` (world): no limit, motor or spring, the
+    /// bodies kept apart.
+    pub fn hinge(bodies: [usize; 2], anchor: [f32; 2]) -> JointDef {
+        JointDef::Revolute {
+            bodies,
+            anchor,
+            limit: None,
+            motor: None,
+            spring: None,
+            collide_connected: false,
+            anchor_b: None,
+        }
+    }
+
     /// Body A and body B.
     pub fn bodies(&self) -> [usize; 2] {
         match self {

@@ -32,9 +32,7 @@ impl Distance {
         let (cra, crb) = (cross(ra, axis), cross(rb, axis));
         self.axial_mass =
             inverse(s.inv_mass_a + s.inv_mass_b + s.inv_i_a * cra * cra + s.inv_i_b * crb * crb);
-        self.spring_softness = self.spring.map_or(Softness::default(), |sp| {
-            Softness::new(sp.hertz, sp.damping_ratio, ctx.h)
-        });
+        self.spring_softness = Spring::softness(self.spring, ctx.h);
         if !ctx.warm_starting {
             self.reset();
         }

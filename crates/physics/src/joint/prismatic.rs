@@ -25,6 +25,13 @@ struct Axis {
     pub(super) d: Vec2,
 }
 
+/// The axis fixed in A and its left perpendicular, in the world at the step's start (for
+/// the reaction force).
+fn start_axes(s: &JointStep) -> (Vec2, Vec2) {
+    let axis = s.frame_a.q.apply(Vec2::X);
+    (axis, Vec2::new(-axis.y, axis.x))
+}
+
 fn axis(s: &JointStep, p: &Pair) -> Axis {
     let (ra, rb, d) = anchors(s, p);
     let axis = p.dqa.apply(s.frame_a.q.apply(Vec2::X));
@@ -141,9 +148,7 @@ pub struct Prismatic {
 
 impl Prismatic {
     pub(super) fn prepare(&mut self, _s: &JointStep, ctx: &JointContext) {
-        self.spring_softness = self.spring.map_or(Softness::default(), |sp| {
-            Softness::new(sp.hertz, sp.damping_ratio, ctx.h)
-        });
+        self.spring_softness = Spring::softness(self.spring, ctx.h);
         if !ctx.warm_starting {
             self.reset();
         }
@@ -223,8 +228,7 @@ impl Prismatic {
     }
 
     pub(super) fn reaction(&self, s: &JointStep) -> (Vec2, f32) {
-        let axis = s.frame_a.q.apply(Vec2::X);
-        let perp = Vec2::new(-axis.y, axis.x);
+        let (axis, perp) = start_axes(s);
         let axial = self.spring_impulse + self.motor_impulse + self.limit_impulse[0]
             - self.limit_impulse[1];
         (self.impulse.x * perp + axial * axis, self.impulse.y)
@@ -272,9 +276,7 @@ impl Default for Wheel {
 
 impl Wheel {
     pub(super) fn prepare(&mut self, s: &JointStep, ctx: &JointContext) {
-        self.spring_softness = self.spring.map_or(Softness::default(), |sp| {
-            Softness::new(sp.hertz, sp.damping_ratio, ctx.h)
-        });
+        self.spring_softness = Spring::softness(self.spring, ctx.h);
         self.motor_mass = inverse(s.inv_i_a + s.inv_i_b);
         if !ctx.warm_starting {
             self.reset();
@@ -357,8 +359,7 @@ impl Wheel {
     }
 
     pub(super) fn reaction(&self, s: &JointStep) -> (Vec2, f32) {
-        let axis = s.frame_a.q.apply(Vec2::X);
-        let perp = Vec2::new(-axis.y, axis.x);
+        let (axis, perp) = start_axes(s);
         let axial = self.spring_impulse + self.limit_impulse[0] - self.limit_impulse[1];
         (self.perp_impulse * perp + axial * axis, self.motor_impulse)
     }

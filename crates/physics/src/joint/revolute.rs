@@ -39,9 +39,7 @@ impl Revolute {
 
     pub(super) fn prepare(&mut self, s: &JointStep, ctx: &JointContext) {
         self.axial_mass = inverse(s.inv_i_a + s.inv_i_b);
-        self.spring_softness = self.spring.map_or(Softness::default(), |sp| {
-            Softness::new(sp.hertz, sp.damping_ratio, ctx.h)
-        });
+        self.spring_softness = Spring::softness(self.spring, ctx.h);
         if !ctx.warm_starting {
             self.reset();
         }

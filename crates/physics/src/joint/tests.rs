@@ -26,18 +26,6 @@ fn world(bodies: Vec<BodyDef>, joints: Vec<JointDef>) -> World {
     World::from_scene(&scene, &Limits::default()).expect("valid scene")
 }
 
-fn hinge(bodies: [usize; 2], anchor: [f32; 2]) -> JointDef {
-    JointDef::Revolute {
-        bodies,
-        anchor,
-        limit: None,
-        motor: None,
-        spring: None,
-        collide_connected: false,
-        anchor_b: None,
-    }
-}
-
 /// Period of a pendulum from the times its bob crosses the bottom going one way.
 fn period(w: &mut World, bob: usize, steps: usize) -> f32 {
     let mut crossings = Vec::new();
@@ -64,7 +52,7 @@ fn a_pendulum_swings_with_the_period_of_the_closed_form() {
     let bob = [l * theta.sin(), -l * theta.cos()];
     let mut w = world(
         vec![ground(), ball(bob[0], bob[1], r)],
-        vec![hinge([0, 1], [0.0, 0.0])],
+        vec![JointDef::hinge([0, 1], [0.0, 0.0])],
     );
     let t0 = 2.0 * std::f32::consts::PI * ((0.5 * r * r + l * l) / (G * l)).sqrt();
     let expected = t0 * (1.0 + theta * theta / 16.0 + 11.0 * theta.powi(4) / 3072.0);
@@ -92,7 +80,10 @@ fn a_rod_hinged_at_one_end_passes_the_bottom_at_the_speed_energy_gives() {
         radius: 0.0,
     })
     .at(l / 2.0, 0.0);
-    let mut w = world(vec![ground(), rod], vec![hinge([0, 1], [0.0, 0.0])]);
+    let mut w = world(
+        vec![ground(), rod],
+        vec![JointDef::hinge([0, 1], [0.0, 0.0])],
+    );
     let i_over_m = (l * l + t * t) / 12.0 + l * l / 4.0;
     let expected = (G * l / i_over_m).sqrt();
     // Step until the rod first passes straight down (angle −π/2), interpolating ω there.
@@ -508,7 +499,7 @@ fn a_joint_joins_islands_so_a_hanging_chain_sleeps_and_wakes_as_one() {
     for k in 0..5 {
         scene.bodies.push(ball(0.0, -(k as f32 + 1.0), 0.2));
         let y = if k == 0 { 0.0 } else { -(k as f32) - 0.5 };
-        scene.joints.push(hinge([k, k + 1], [0.0, y]));
+        scene.joints.push(JointDef::hinge([k, k + 1], [0.0, y]));
     }
     let mut w = World::from_scene(&scene, &Limits::default()).unwrap();
     assert_eq!(w.island_counts().0, 1, "one island for the five links");
@@ -544,21 +535,21 @@ fn bad_joints_are_refused_with_their_index_and_field() {
             Ok(_) => panic!("accepted"),
         }
     };
-    let ok = hinge([0, 1], [0.0, 0.0]);
+    let ok = JointDef::hinge([0, 1], [0.0, 0.0]);
     assert_eq!(
-        refused(vec![ok.clone(), hinge([0, 7], [0.0, 0.0])]),
+        refused(vec![ok.clone(), JointDef::hinge([0, 7], [0.0, 0.0])]),
         (1, "Revolute.bodies".into())
     );
     assert_eq!(
-        refused(vec![hinge([1, 1], [0.0, 0.0])]).1,
+        refused(vec![JointDef::hinge([1, 1], [0.0, 0.0])]).1,
         "Revolute.bodies"
     );
     assert_eq!(
-        refused(vec![hinge([0, 0], [0.0, 0.0])]).1,
+        refused(vec![JointDef::hinge([0, 0], [0.0, 0.0])]).1,
         "Revolute.bodies"
     );
     assert_eq!(
-        refused(vec![hinge([0, 1], [f32::NAN, 0.0])]).1,
+        refused(vec![JointDef::hinge([0, 1], [f32::NAN, 0.0])]).1,
         "Revolute.anchor"
     );
     let limited = |limit| JointDef::Revolute {
@@ -633,11 +624,11 @@ fn a_chain_of_hinges_holds_a_ball_a_thousand_times_a_link_without_stretching() {
             .at(0.0, y)
             .density(20.0),
         );
-        joints.push(hinge([i, i + 1], [0.0, y + 0.5]));
+        joints.push(JointDef::hinge([i, i + 1], [0.0, y + 0.5]));
     }
     let ball_density = 1000.0 * link_mass / std::f32::consts::PI;
     bodies.push(ball(0.0, -11.0, 1.0).density(ball_density));
-    joints.push(hinge([10, 11], [0.0, -10.0]));
+    joints.push(JointDef::hinge([10, 11], [0.0, -10.0]));
     let mut w = world(bodies, joints);
     let mut largest = 0.0f32;
     for _ in 0..180 {
@@ -658,7 +649,7 @@ fn a_snapshot_mid_run_keeps_the_joints_impulses_and_continues_bit_for_bit() {
     let mut joints = Vec::new();
     for i in 0..4 {
         bodies.push(ball(i as f32 + 1.0, 0.0, 0.2));
-        joints.push(hinge([i, i + 1], [i as f32 + 0.5, 0.0]));
+        joints.push(JointDef::hinge([i, i + 1], [i as f32 + 0.5, 0.0]));
     }
     bodies.push(ball(0.0, -3.0, 0.3));
     joints.push(JointDef::Revolute {

@@ -459,7 +459,8 @@ impl Solver {
     /// (`copies` and no recolouring) the next step prepares them in place, without copying
     /// 200 bytes a joint in and out (a fifth of `joint_grid`'s step); [`Solver::store_joints`]
     /// writes them back when the order changes or the world reads or edits its joints.
-    /// Returns whether it copied afresh (the caller's copies were stale).
+    /// `copies`: the live copies stand (the caller writes them back and passes false when
+    /// [`Solver::joint_order_changed`]). Returns whether it copied afresh.
     #[allow(clippy::too_many_arguments)]
     pub fn prepare_joints(
         &mut self,
@@ -470,7 +471,7 @@ impl Solver {
         spread: Spread<'_>,
         min: usize,
     ) -> bool {
-        let fresh = !copies || self.copy_order != self.joint_order;
+        let fresh = !copies;
         let order = &self.joint_order;
         if fresh {
             self.solver_joints
@@ -1040,8 +1041,8 @@ impl Passes<'_> {
                 let joints = unsafe { self.joints.range_mut(chain.clone()) };
                 match stage.pass {
                     Pass::WarmStart => joints.iter_mut().for_each(|j| j.warm_start(states)),
-                    Pass::Solve => crate::joint::chain::solve(joints, states, &ctx, true),
-                    Pass::Relax => crate::joint::chain::solve(joints, states, &ctx, false),
+                    Pass::Solve => crate::joint::chain::solve(joints, states, true),
+                    Pass::Relax => crate::joint::chain::solve(joints, states, false),
                     _ => {}
                 }
             }
