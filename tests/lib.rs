@@ -12,7 +12,15 @@ pub fn world(scene: &SceneDef) -> World {
 
 /// Steps a world `n` times at the scene's settings.
 pub fn run(world: &mut World, scene: &SceneDef, n: u32) {
+    // A built-in's script (junkyard's pusher, rain's ragdolls) runs before each step, as in
+    // the runner, `compare` and the viewer; only for the built-in itself, not a scene changed
+    // from it.
+    let script = tumble_scene::builtin::script(&scene.name)
+        .filter(|_| tumble_scene::builtin::build(&scene.name).as_ref() == Some(scene));
     for _ in 0..n {
+        if let Some(script) = script {
+            script(world.step_count(), world);
+        }
         world.step(scene.dt, scene.substeps);
     }
 }

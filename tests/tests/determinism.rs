@@ -548,3 +548,42 @@ fn the_thread_count_changes_mid_run_on_a_parallel_scene() {
     );
     assert_same(&one, &switching);
 }
+
+#[test]
+fn rain_making_and_destroying_ragdolls_is_bit_identical_on_1_to_4_real_workers() {
+    // Box2D's rain on a shorter schedule, through its own script (stateless: a step number
+    // names its wave): columns 0, 1 and 2 made at steps 0, 8 and 16 (825 bodies, 750 sprung,
+    // limited, motor-braked hinges), the ragdolls landing from 40 m near step 170; at step
+    // 180, the wave that replaces column 0 (rain's step 320) destroys its five groups, piled
+    // on the ground, and makes them again at the top; 200 steps, sleeping on.
+    use tumble_scene::builtin::rain;
+    let scene = tumble_scene::builtin::build("rain").expect("rain");
+    let runs: Vec<Run> = (1..=4)
+        .map(|workers| {
+            let mut w = world(&scene);
+            w.set_workers_beyond_cores(true);
+            w.set_thread_count(workers);
+            for step in 0..200u64 {
+                let wave = match step {
+                    0 | 8 | 16 => Some(step),
+                    180 => Some(rain::DELAY * rain::COLUMNS as u64),
+                    _ => None,
+                };
+                if let Some(wave) = wave {
+                    rain::step(wave, &mut w);
+                }
+                w.step(scene.dt, scene.substeps);
+            }
+            assert!(
+                all_finite(&w),
+                "rain on {workers} workers: non-finite state"
+            );
+            assert_eq!(w.live_body_count(), 1 + 3 * 5 * 55);
+            assert!(w.contact_count() > 100, "the ragdolls have landed");
+            Run::of(format!("rain on {workers} workers"), &w, 0)
+        })
+        .collect();
+    for other in &runs[1..] {
+        assert_same(&runs[0], other);
+    }
+}

@@ -10,11 +10,12 @@ use clap::Args;
 const WARMUP_STEPS: u32 = 10;
 
 /// Default scenes: Box2D's own benchmark scenes that tumble builds the same way (smash,
-/// compounds, junkyard, spinner and tumbler sleeping, as Box2D's benchmark runs them;
-/// junkyard's pusher driven in every engine; spinner's paddle and tumbler's drum turned by
-/// revolute motors, joint_grid's 19794 revolute joints, in every engine).
+/// compounds, junkyard, spinner, tumbler and rain sleeping, as Box2D's benchmark runs them;
+/// junkyard's pusher driven and rain's ragdolls made and destroyed in every engine; spinner's
+/// paddle and tumbler's drum turned by revolute motors, joint_grid's 19794 revolute joints,
+/// in every engine).
 const DEFAULT_SCENES: &str =
-    "large_pyramid,many_pyramids,smash,compounds,junkyard,spinner,joint_grid,tumbler";
+    "large_pyramid,many_pyramids,smash,compounds,junkyard,spinner,joint_grid,tumbler,rain";
 
 /// Most threads the peers take (Box2D's worker count is 1 to 32).
 pub(crate) const MAX_PEER_THREADS: u32 = 32;

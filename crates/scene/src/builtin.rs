@@ -10,6 +10,8 @@
 //! (`compounds`, `junkyard`) put them on one body as Box2D does. tumble has no segments yet,
 //! so a segment becomes a thin box whose face lies on the segment (see [`segment`]).
 
+pub mod rain;
+
 use std::f32::consts::PI;
 
 use tumble_physics::joint::AngularMotor;
@@ -44,6 +46,7 @@ const NAMES: &[&str] = &[
     "bridge",
     "stretched_chain",
     "ragdoll",
+    "rain",
 ];
 
 /// All built-in scene names, in menu order.
@@ -81,11 +84,12 @@ pub fn build(name: &str) -> Option<SceneDef> {
         "bridge" => bridge(),
         "stretched_chain" => stretched_chain(),
         "ragdoll" => ragdoll(),
+        "rain" => rain::scene(),
         _ => return None,
     };
     // Box2D's benchmark turns sleeping off in its pyramids and keeps it on in smash,
-    // compounds, junkyard and spinner. The hard cases measure a scene's motion to its end, which
-    // sleeping would stop: every built-in but those four runs awake, as it always did.
+    // compounds, junkyard, spinner, tumbler and rain. The hard cases measure a scene's motion
+    // to its end, which sleeping would stop: every built-in but those runs awake.
     if !SLEEPING.contains(&name) {
         scene.sleep = false;
     }
@@ -93,7 +97,14 @@ pub fn build(name: &str) -> Option<SceneDef> {
 }
 
 /// The built-ins that sleep (as Box2D's benchmark builds them).
-const SLEEPING: &[&str] = &["smash", "compounds", "junkyard", "spinner", "tumbler"];
+const SLEEPING: &[&str] = &[
+    "smash",
+    "compounds",
+    "junkyard",
+    "spinner",
+    "tumbler",
+    "rain",
+];
 
 /// What a built-in does between steps (Box2D's benchmark `Step*` functions): the steps taken
 /// so far, and the world to change. Scenes without one return `None` from [`script`].
@@ -104,6 +115,7 @@ pub type Script = fn(u64, &mut tumble_physics::World);
 pub fn script(name: &str) -> Option<Script> {
     match name {
         "junkyard" => Some(junkyard_step),
+        "rain" => Some(rain::step),
         _ => None,
     }
 }
@@ -215,6 +227,10 @@ pub fn describe(name: &str) -> Option<&'static str> {
         "ragdoll" => {
             "A ragdoll of 11 capsule bones on revolute joints with limits and motor friction falls onto the ground (Solver2D's Ragdoll, Box2D's human). \
              Tests a tree of limited joints under impact: the limbs must keep to their limits and settle without jitter."
+        }
+        "rain" => {
+            "Benchmark: groups of five ragdolls (capsule bones on limited, sprung, motor-braked hinges) rain onto five rows of 501 ground boxes; every 8 steps a column of groups is made, and once 40 columns stand, the oldest is destroyed and made again (Box2D's rain). \
+             Tests making and destroying bodies and joints every few steps while 11,000 bodies and 10,000 joints fall, pile up and sleep."
         }
         "joint_grid" => {
             "Benchmark: a 100 x 100 grid of discs joined by 19794 revolute joints, hung from 7 static discs, no contacts (Box2D's joint_grid). \

@@ -26,8 +26,9 @@
 //! passed on as `isBullet` but do nothing in Box2D with continuous off; the scene's
 //! `continuous` is not passed on); contact events off (tumble produces none); `threads`
 //! workers (Box2D's own scheduler: the caller plus `threads - 1` threads). A scene with a
-//! script ([`super::script`], junkyard's pusher) runs it before each step through
-//! `b2Body_SetTargetTransform`.
+//! script ([`super::script`]) runs it before each step: junkyard's pusher through
+//! `b2Body_SetTargetTransform`, rain's groups made as the scene's bodies and joints are, and
+//! destroyed by `b2DestroyBody` (which takes their joints).
 //!
 //! Joints, created after the bodies from the joints tumble builds ([`super::scene_joints`]:
 //! `JointDef::build`'s frames and defaults), as Box2D 3.2 takes them: each joint's
@@ -71,6 +72,8 @@ use boxdd::{
     RevoluteJointDef, Rot, ShapeDef, SurfaceMaterial, Transform, Vec2, WeldJointDef, WheelJointDef,
     WorkerCount, World, WorldBuilder, WorldTransform,
 };
+use std::collections::HashMap;
+
 use tumble_physics::{BodyKind, JointKind, SceneDef, StepSettings};
 
 use super::{PartShape, Peer, Script, Targets, ok, origin_velocity, part_shape, scene_joints};
@@ -78,11 +81,16 @@ use super::{PartShape, Peer, Script, Targets, ok, origin_velocity, part_shape, s
 /// A Box2D world holding a tumble scene.
 pub struct Box2d {
     world: World,
+    foundation: &'static Foundation,
     ids: Vec<BodyId>,
     dt: f32,
     substeps: i32,
+    sleep: bool,
+    settings: StepSettings,
     script: Option<Script>,
     steps: u64,
+    /// The bodies each tag's group made ([`Targets::spawn`]).
+    spawned: HashMap<u64, Vec<BodyId>>,
 }
 
 /// Box2D's version, e.g. "3.2.0".
@@ -133,135 +141,32 @@ impl Box2d {
         let mut world = ok(f.create_world(def), "Box2D world")?;
         let mut ids = Vec::with_capacity(scene.bodies.len());
         for (i, b) in scene.bodies.iter().enumerate() {
-            let what = format!("Box2D body {i}");
-            let kind = match b.kind {
-                BodyKind::Static => BodyType::Static,
-                BodyKind::Dynamic => BodyType::Dynamic,
-                BodyKind::Kinematic => BodyType::Kinematic,
-            };
-            // tumble starts a body asleep only when the world sleeps and the body is dynamic;
-            // Box2D would put any body defined asleep into a sleeping set.
-            let asleep = !b.awake && scene.sleep && b.kind == BodyKind::Dynamic;
-            let v = origin_velocity(b);
-            let body_def = ok(
-                BodyBuilder::from(f.body_def())
-                    .body_type(kind)
-                    .position(Position::new(b.position[0], b.position[1]))
-                    .angle(b.angle)
-                    .linear_velocity(Vec2::new(v[0], v[1]))
-                    .angular_velocity(b.angular_velocity)
-                    .linear_damping(b.linear_damping)
-                    .angular_damping(b.angular_damping)
-                    .gravity_scale(b.gravity_scale)
-                    .enable_sleep(b.enable_sleep)
-                    .sleep_threshold(settings.sleep_threshold)
-                    .awake(!asleep)
-                    .bullet(b.bullet)
-                    .motion_locks(MotionLocks::new(false, false, b.fixed_rotation))
-                    .build(),
-                &what,
-            )?;
-            let id = ok(world.create_body(body_def), &what)?;
-            let mut body = ok(world.body(id), &what)?;
-            for (k, part) in b.parts().iter().enumerate() {
-                let what = format!("Box2D body {i}, part {k}");
-                let material = ok(
-                    SurfaceMaterial::default()
-                        .with_friction(part.friction)
-                        .and_then(|m| m.with_restitution(part.restitution)),
-                    &what,
-                )?;
-                let shape_def = ok(
-                    ShapeDef::builder()
-                        .density(part.density)
-                        .material(material)
-                        .filter(filter(&part.filter).map_err(|e| anyhow::anyhow!("{what}: {e}"))?)
-                        .sensor(part.sensor)
-                        .enable_sensor_events(false)
-                        .enable_contact_events(false)
-                        .build(),
-                    &what,
-                )?;
-                let shape = part_shape(part).map_err(|e| anyhow::anyhow!("{what}: {e}"))?;
-                match shape {
-                    PartShape::Box {
-                        half_extents: [hx, hy],
-                        center: [0.0, 0.0],
-                        angle: 0.0,
-                        radius: 0.0,
-                    } => {
-                        ok(body.create_box(&shape_def, hx, hy), &what)?;
-                    }
-                    PartShape::Box {
-                        half_extents: [hx, hy],
-                        center,
-                        angle,
-                        radius,
-                    } => {
-                        let xf = ok(Transform::from_pos_angle(center, angle), &what)?;
-                        let polygon = ok(
-                            Polygon::offset_rounded_box_polygon(hx, hy, radius, xf),
-                            &what,
-                        )?;
-                        ok(body.create_polygon(&shape_def, &polygon), &what)?;
-                    }
-                    PartShape::Circle { center, radius } => {
-                        let circle = ok(Circle::new(center, radius), &what)?;
-                        ok(body.create_circle(&shape_def, &circle), &what)?;
-                    }
-                    PartShape::Polygon(points, radius) => {
-                        ok(
-                            body.create_polygon_from_points(&shape_def, points, radius),
-                            &what,
-                        )?;
-                    }
-                    PartShape::Capsule {
-                        center1,
-                        center2,
-                        radius,
-                    } => {
-                        ok(
-                            body.create_capsule_between(&shape_def, center1, center2, radius),
-                            &what,
-                        )?;
-                    }
-                    PartShape::Segment { point1, point2 } => {
-                        ok(
-                            body.create_segment_between(&shape_def, point1, point2),
-                            &what,
-                        )?;
-                    }
-                    PartShape::Chain { points, looped } => {
-                        let chain = ok(
-                            ChainDef::builder()
-                                .points(points)
-                                .is_loop(looped)
-                                .single_material(&material)
-                                .filter(
-                                    filter(&part.filter)
-                                        .map_err(|e| anyhow::anyhow!("{what}: {e}"))?,
-                                )
-                                .build(),
-                            &what,
-                        )?;
-                        ok(body.create_chain(&chain), &what)?;
-                    }
-                }
-            }
-            ids.push(id);
+            ids.push(create_body(&mut world, f, i, b, scene.sleep, settings)?);
         }
         if scene.substeps > i32::MAX as u32 {
             bail!("too many substeps for Box2D");
         }
-        create_joints(&mut world, &ids, scene, settings)?;
+        let h = scene.dt / scene.substeps.max(1) as f32;
+        create_joints(&mut world, &ids, scene, settings, h)?;
         Ok(Box2d {
             world,
+            foundation: f,
             ids,
             dt: scene.dt,
             substeps: scene.substeps as i32,
+            sleep: scene.sleep,
+            settings: *settings,
             script: super::script(&scene.name),
             steps: 0,
+            spawned: HashMap::new(),
         })
+    }
+
+    /// Bodies and joints in the world (`b2World_GetCounters`).
+    #[cfg(test)]
+    pub fn counts(&self) -> Result<(usize, usize)> {
+        let c = ok(self.world.counters(), "Box2D counters")?;
+        Ok((c.body_count as usize, c.joint_count as usize))
     }
 
     /// Whether body `index` is awake (`b2Body_IsAwake`).
@@ -280,6 +185,131 @@ impl Box2d {
         let c = ok(body.local_center_of_mass(), "Box2D centre of mass")?;
         Ok((m, [c.x, c.y]))
     }
+}
+
+/// Creates tumble body `b` (the scene's `i`-th) with its shapes (see the module's
+/// documentation), in a world that sleeps when `sleep` is on.
+fn create_body(
+    world: &mut World,
+    f: &Foundation,
+    i: usize,
+    b: &tumble_physics::BodyDef,
+    sleep: bool,
+    settings: &StepSettings,
+) -> Result<BodyId> {
+    let what = format!("Box2D body {i}");
+    let kind = match b.kind {
+        BodyKind::Static => BodyType::Static,
+        BodyKind::Dynamic => BodyType::Dynamic,
+        BodyKind::Kinematic => BodyType::Kinematic,
+    };
+    // tumble starts a body asleep only when the world sleeps and the body is dynamic;
+    // Box2D would put any body defined asleep into a sleeping set.
+    let asleep = !b.awake && sleep && b.kind == BodyKind::Dynamic;
+    let v = origin_velocity(b);
+    let body_def = ok(
+        BodyBuilder::from(f.body_def())
+            .body_type(kind)
+            .position(Position::new(b.position[0], b.position[1]))
+            .angle(b.angle)
+            .linear_velocity(Vec2::new(v[0], v[1]))
+            .angular_velocity(b.angular_velocity)
+            .linear_damping(b.linear_damping)
+            .angular_damping(b.angular_damping)
+            .gravity_scale(b.gravity_scale)
+            .enable_sleep(b.enable_sleep)
+            .sleep_threshold(settings.sleep_threshold)
+            .awake(!asleep)
+            .bullet(b.bullet)
+            .motion_locks(MotionLocks::new(false, false, b.fixed_rotation))
+            .build(),
+        &what,
+    )?;
+    let id = ok(world.create_body(body_def), &what)?;
+    let mut body = ok(world.body(id), &what)?;
+    for (k, part) in b.parts().iter().enumerate() {
+        let what = format!("Box2D body {i}, part {k}");
+        let material = ok(
+            SurfaceMaterial::default()
+                .with_friction(part.friction)
+                .and_then(|m| m.with_restitution(part.restitution)),
+            &what,
+        )?;
+        let shape_def = ok(
+            ShapeDef::builder()
+                .density(part.density)
+                .material(material)
+                .filter(filter(&part.filter).map_err(|e| anyhow::anyhow!("{what}: {e}"))?)
+                .sensor(part.sensor)
+                .enable_sensor_events(false)
+                .enable_contact_events(false)
+                .build(),
+            &what,
+        )?;
+        let shape = part_shape(part).map_err(|e| anyhow::anyhow!("{what}: {e}"))?;
+        match shape {
+            PartShape::Box {
+                half_extents: [hx, hy],
+                center: [0.0, 0.0],
+                angle: 0.0,
+                radius: 0.0,
+            } => {
+                ok(body.create_box(&shape_def, hx, hy), &what)?;
+            }
+            PartShape::Box {
+                half_extents: [hx, hy],
+                center,
+                angle,
+                radius,
+            } => {
+                let xf = ok(Transform::from_pos_angle(center, angle), &what)?;
+                let polygon = ok(
+                    Polygon::offset_rounded_box_polygon(hx, hy, radius, xf),
+                    &what,
+                )?;
+                ok(body.create_polygon(&shape_def, &polygon), &what)?;
+            }
+            PartShape::Circle { center, radius } => {
+                let circle = ok(Circle::new(center, radius), &what)?;
+                ok(body.create_circle(&shape_def, &circle), &what)?;
+            }
+            PartShape::Polygon(points, radius) => {
+                ok(
+                    body.create_polygon_from_points(&shape_def, points, radius),
+                    &what,
+                )?;
+            }
+            PartShape::Capsule {
+                center1,
+                center2,
+                radius,
+            } => {
+                ok(
+                    body.create_capsule_between(&shape_def, center1, center2, radius),
+                    &what,
+                )?;
+            }
+            PartShape::Segment { point1, point2 } => {
+                ok(
+                    body.create_segment_between(&shape_def, point1, point2),
+                    &what,
+                )?;
+            }
+            PartShape::Chain { points, looped } => {
+                let chain = ok(
+                    ChainDef::builder()
+                        .points(points)
+                        .is_loop(looped)
+                        .single_material(&material)
+                        .filter(filter(&part.filter).map_err(|e| anyhow::anyhow!("{what}: {e}"))?)
+                        .build(),
+                    &what,
+                )?;
+                ok(body.create_chain(&chain), &what)?;
+            }
+        }
+    }
+    Ok(id)
 }
 
 /// The spring of Box2D 3.2's motor joint that acts as v3.0's position correction (tumble's
@@ -305,8 +335,8 @@ fn create_joints(
     ids: &[BodyId],
     scene: &SceneDef,
     settings: &StepSettings,
+    h: f32,
 ) -> Result<()> {
-    let h = scene.dt / scene.substeps.max(1) as f32;
     for (index, joint) in scene_joints(scene, settings)?.iter().enumerate() {
         let what = format!(
             "scene {:?}, Box2D joint {index} ({})",
@@ -486,6 +516,33 @@ impl Targets for Box2d {
         )?;
         let mut body = ok(self.world.body(self.ids[index]), what)?;
         ok(body.set_target_transform(target, dt, true), what)
+    }
+
+    fn spawn(&mut self, tag: u64, group: &SceneDef) -> Result<()> {
+        let mut ids = Vec::with_capacity(group.bodies.len());
+        for (i, b) in group.bodies.iter().enumerate() {
+            let id = create_body(
+                &mut self.world,
+                self.foundation,
+                i,
+                b,
+                self.sleep,
+                &self.settings,
+            )?;
+            ids.push(id);
+        }
+        let h = self.dt / self.substeps.max(1) as f32;
+        create_joints(&mut self.world, &ids, group, &self.settings, h)?;
+        self.spawned.entry(tag).or_default().extend(ids);
+        Ok(())
+    }
+
+    fn despawn(&mut self, tag: u64) -> Result<()> {
+        for id in self.spawned.remove(&tag).unwrap_or_default() {
+            let body = ok(self.world.body(id), "Box2D body of a group")?;
+            ok(body.destroy(), "Box2D body destroyed")?;
+        }
+        Ok(())
     }
 }
 

@@ -79,6 +79,11 @@ pub trait Targets {
         angle: f32,
         dt: f32,
     ) -> Result<()>;
+    /// Makes `group`'s bodies and joints (a scene of its own, its bodies numbered from 0)
+    /// and remembers them under `tag` (tumble: `tumble_scene::builtin::rain::spawn`).
+    fn spawn(&mut self, tag: u64, group: &tumble_physics::SceneDef) -> Result<()>;
+    /// Destroys the bodies made under `tag`, with their joints.
+    fn despawn(&mut self, tag: u64) -> Result<()>;
 }
 
 /// A peer's per-step script: the steps taken so far and the world. The peers' counterpart of
@@ -94,8 +99,28 @@ pub type Script = fn(u64, &mut dyn Targets) -> Result<()>;
 pub fn script(name: &str) -> Option<Script> {
     match name {
         "junkyard" => Some(junkyard),
+        "rain" => Some(rain),
         _ => None,
     }
+}
+
+/// Box2D's `StepRain` (tumble's `rain::step`): every 8 steps a column of groups, one per row,
+/// made; once the 40 columns are full, the oldest column's groups destroyed and made again,
+/// row by row.
+#[cfg(feature = "peers")]
+fn rain(steps: u64, world: &mut dyn Targets) -> Result<()> {
+    use tumble_scene::builtin::rain;
+    let Some((column, replace)) = rain::wave(steps) else {
+        return Ok(());
+    };
+    for row in 0..rain::ROWS {
+        let tag = rain::tag(row, column);
+        if replace {
+            world.despawn(tag)?;
+        }
+        world.spawn(tag, &rain::group(row, column))?;
+    }
+    Ok(())
 }
 
 /// Box2D's `StepJunkyard` (tumble's `junkyard_step`): the pusher, the last body, aims for
@@ -314,6 +339,23 @@ mod tests {
                 .set_target_transform(id, Vec2::from(position), angle, dt)
                 .map_err(|e| anyhow::anyhow!("{e}"))
         }
+        fn spawn(&mut self, tag: u64, group: &SceneDef) -> Result<()> {
+            tumble_scene::builtin::rain::spawn(self.0, tag, group)
+                .map_err(|e| anyhow::anyhow!("{e}"))
+        }
+        fn despawn(&mut self, tag: u64) -> Result<()> {
+            let ids: Vec<_> = self
+                .0
+                .body_ids()
+                .filter(|&id| self.0.user_data(id).unwrap() == tag)
+                .collect();
+            for id in ids {
+                self.0
+                    .destroy_body(id)
+                    .map_err(|e| anyhow::anyhow!("{e}"))?;
+            }
+            Ok(())
+        }
     }
 
     #[test]
@@ -336,14 +378,50 @@ mod tests {
             };
             let mut a = World::from_scene(&scene, &limits).unwrap();
             let mut b = World::from_scene(&scene, &limits).unwrap();
-            for step in [0u64, 1, 7, 100, 999] {
+            // rain's waves: the first two columns, then the one that replaces column 0.
+            for step in [0u64, 1, 7, 8, 100, 320, 999] {
                 theirs(step, &mut a);
                 ours(step, &mut Tumble(&mut b)).unwrap();
-                for i in 0..scene.bodies.len() {
-                    assert_eq!(a.body(i), b.body(i), "{name}, step {step}, body {i}");
+                assert_eq!(a.body_count(), b.body_count(), "{name}, step {step}");
+                assert_eq!(a.joint_count(), b.joint_count(), "{name}, step {step}");
+                for i in 0..a.body_count() {
+                    assert_eq!(a.is_body(i), b.is_body(i), "{name}, step {step}, body {i}");
+                    if a.is_body(i) {
+                        assert_eq!(a.body(i), b.body(i), "{name}, step {step}, body {i}");
+                    }
                 }
             }
         }
+    }
+
+    #[test]
+    fn rain_makes_and_replaces_its_groups_in_box2d_and_rapier() {
+        // Two waves (columns 0 and 1), then the wave that replaces column 0: the same bodies
+        // and joints as before it, as in tumble (`peer_scripts_do_what_tumbles_do`).
+        let scene = tumble_scene::builtin::build("rain").unwrap();
+        let settings = scene_settings(&scene).unwrap();
+        let per_wave =
+            tumble_scene::builtin::rain::ROWS * tumble_scene::builtin::rain::GROUP_SIZE * 11;
+        let mut b = Box2d::new(&scene, &settings, 1).unwrap();
+        let mut r = Rapier::new(&scene, 1).unwrap();
+        for step in [0, 8] {
+            rain(step, &mut b).unwrap();
+            rain(step, &mut r).unwrap();
+        }
+        let (b_bodies, b_joints) = b.counts().unwrap();
+        let (r_bodies, r_joints) = r.counts();
+        assert_eq!(b_bodies, 1 + 2 * per_wave);
+        assert_eq!(r_bodies, 1 + 2 * per_wave);
+        // Ten hinges a human; Rapier's hinge with a spring and a motor is two joints.
+        assert_eq!(b_joints, 2 * per_wave / 11 * 10);
+        assert_eq!(r_joints, 2 * b_joints);
+        rain(320, &mut b).unwrap();
+        rain(320, &mut r).unwrap();
+        assert_eq!(b.counts().unwrap(), (b_bodies, b_joints));
+        assert_eq!(r.counts(), (r_bodies, r_joints));
+        // Both step what was made and destroyed (each step runs wave 0 first: more groups).
+        b.step().unwrap();
+        r.step().unwrap();
     }
 
     /// A body of two parts off its origin (an offset, turned box of density 2 and a triangle

@@ -44,9 +44,10 @@
 //! Integration: `dt` is the scene's; `num_solver_iterations` = the scene's substeps (Rapier's
 //! substeps); CCD off (`max_ccd_substeps = 0`, the world-wide switch, and no body asks for it;
 //! tumble has none); all other integration parameters are Rapier's defaults. A scene with a
-//! script ([`super::script`], junkyard's pusher) runs it before each step: a target transform
-//! becomes the velocity that reaches it in one step, computed as tumble's
-//! `World::set_target_transform` does. The step runs inside a rayon pool of `threads` threads.
+//! script ([`super::script`]) runs it before each step: junkyard's target transform becomes
+//! the velocity that reaches it in one step, computed as tumble's
+//! `World::set_target_transform` does; rain's groups are made as the scene's bodies and
+//! joints are, and removed with `remove_body` (which takes their colliders and joints). The step runs inside a rayon pool of `threads` threads.
 //!
 //! Joints: impulse joints (`ImpulseJointSet`), created after the bodies from the joints tumble
 //! builds ([`super::scene_joints`]: `JointDef::build`'s frames and defaults). Each is a
@@ -98,6 +99,8 @@
 //! A joint that cannot be expressed is refused with an error naming the scene, the joint's
 //! index and its type, never dropped.
 
+use std::collections::HashMap;
+
 use anyhow::{Context, Result, bail};
 use rapier2d::prelude::*;
 use rapier2d::rayon;
@@ -112,8 +115,16 @@ pub struct Rapier {
     pool: rayon::ThreadPool,
     /// Whether a collider has a non-zero group (the world steps with [`GroupRule`]).
     groups: bool,
+    /// The scene's category bits in Rapier's numbering.
+    bits: Bits,
+    sleep: bool,
+    settings: tumble_physics::StepSettings,
+    /// The substep (s), for the joints made by a script.
+    h: f32,
     script: Option<Script>,
     steps: u64,
+    /// The bodies each tag's group made ([`Targets::spawn`]).
+    spawned: HashMap<u64, Vec<RigidBodyHandle>>,
 }
 
 /// Knobs of Rapier's solver that the accuracy report sweeps; `None` keeps Rapier's default.
@@ -239,130 +250,30 @@ impl Rapier {
         let mut groups = false;
         let mut handles = Vec::with_capacity(scene.bodies.len());
         for (i, b) in scene.bodies.iter().enumerate() {
-            let builder = match b.kind {
-                BodyKind::Static => RigidBodyBuilder::fixed(),
-                BodyKind::Dynamic => RigidBodyBuilder::dynamic(),
-                BodyKind::Kinematic => RigidBodyBuilder::kinematic_velocity_based(),
-            };
-            let asleep = !b.awake && scene.sleep && b.kind == BodyKind::Dynamic;
-            let mut builder = builder
-                .translation(Vector::new(b.position[0], b.position[1]))
-                .rotation(b.angle)
-                .linvel(Vector::new(b.linear_velocity[0], b.linear_velocity[1]))
-                .angvel(b.angular_velocity)
-                .linear_damping(b.linear_damping)
-                .angular_damping(b.angular_damping)
-                .gravity_scale(b.gravity_scale)
-                .can_sleep(true)
-                .sleeping(asleep)
-                .ccd_enabled(false);
-            if b.fixed_rotation {
-                builder = builder.lock_rotations();
-            }
-            let handle = world.insert_body(builder);
-            for (k, part) in b.parts().iter().enumerate() {
-                let what = || format!("Rapier body {i}, part {k}");
-                let collider = match part_shape(part).with_context(what)? {
-                    PartShape::Box {
-                        half_extents: [hx, hy],
-                        center,
-                        angle,
-                        radius,
-                    } => if radius > 0.0 {
-                        ColliderBuilder::round_cuboid(hx, hy, radius)
-                    } else {
-                        ColliderBuilder::cuboid(hx, hy)
-                    }
-                    .translation(Vector::from(center))
-                    .rotation(angle),
-                    PartShape::Circle { center, radius } => {
-                        ColliderBuilder::ball(radius).translation(Vector::from(center))
-                    }
-                    PartShape::Polygon(points, radius) => {
-                        let points = points.into_iter().map(Vector::from).collect();
-                        if radius > 0.0 {
-                            ColliderBuilder::round_convex_polyline(points, radius)
-                        } else {
-                            ColliderBuilder::convex_polyline(points)
-                        }
-                        .with_context(|| {
-                            format!("{}: the polygon is not convex for Rapier", what())
-                        })?
-                    }
-                    PartShape::Capsule {
-                        center1,
-                        center2,
-                        radius,
-                    } => ColliderBuilder::capsule_from_endpoints(
-                        Vector::from(center1),
-                        Vector::from(center2),
-                        radius,
-                    ),
-                    PartShape::Segment { point1, point2 } => {
-                        ColliderBuilder::segment(Vector::from(point1), Vector::from(point2))
-                    }
-                    PartShape::Chain { points, looped } => {
-                        // Rapier's oriented polyline: one-sided, pushing towards the right of
-                        // each segment, as a chain does, with pseudo-normals at its vertices
-                        // in place of ghost vertices. An open chain's end points, which only
-                        // shape Box2D's and tumble's end segments, are left out; a loop closes
-                        // by its indices.
-                        let mut vertices: Vec<Vector> =
-                            points.into_iter().map(Vector::from).collect();
-                        if !looped {
-                            vertices.pop();
-                            vertices.remove(0);
-                        }
-                        let n = vertices.len() as u32;
-                        let edges = if looped { n } else { n - 1 };
-                        let indices = (0..edges).map(|i| [i, (i + 1) % n]).collect();
-                        ColliderBuilder::oriented_polyline(vertices, Some(indices))
-                    }
-                };
-                let f = part.filter;
-                let (category, mask) = (bits.map(f.category), bits.map(f.mask));
-                let collider = collider
-                    .density(part.density)
-                    .friction(part.friction)
-                    .friction_combine_rule(CoefficientCombineRule::GeometricMean)
-                    .restitution(part.restitution)
-                    .restitution_combine_rule(CoefficientCombineRule::Max)
-                    .sensor(part.sensor)
-                    .user_data(pack(category, mask, f.group));
-                let collider = if f.group == 0 {
-                    collider.collision_groups(InteractionGroups::new(
-                        Group::from_bits_retain(category),
-                        Group::from_bits_retain(mask),
-                        InteractionTestMode::And,
-                    ))
-                } else {
-                    groups = true;
-                    collider
-                        .collision_groups(InteractionGroups::all())
-                        .active_hooks(ActiveHooks::FILTER_CONTACT_PAIRS)
-                };
-                world.insert_collider(collider, Some(handle));
-            }
-            // After the colliders (which could wake it): whether and when it may sleep.
-            let activation = world.bodies[handle].activation_mut();
-            if scene.sleep && b.enable_sleep {
-                activation.normalized_linear_threshold = settings.sleep_threshold;
-                activation.time_until_sleep = settings.time_to_sleep;
-            } else {
-                activation.normalized_linear_threshold = -1.0;
-                activation.angular_threshold = -1.0;
-            }
+            let handle = create_body(&mut world, &bits, i, b, scene.sleep, &settings, &mut groups)?;
             handles.push(handle);
         }
-        create_joints(&mut world, &handles, scene, &settings)?;
+        let h = scene.dt / scene.substeps.max(1) as f32;
+        create_joints(&mut world, &handles, scene, &settings, h)?;
         Ok(Rapier {
             world,
             handles,
             pool,
             groups,
+            bits,
+            sleep: scene.sleep,
+            settings,
+            h,
             script: super::script(&scene.name),
             steps: 0,
+            spawned: HashMap::new(),
         })
+    }
+
+    /// Bodies and impulse joints in the world.
+    #[cfg(test)]
+    pub fn counts(&self) -> (usize, usize) {
+        (self.world.bodies.len(), self.world.impulse_joints.len())
     }
 
     /// Whether body `index` is awake (not `is_sleeping`).
@@ -424,15 +335,140 @@ fn drive(
     None
 }
 
+/// Creates tumble body `b` (the scene's `i`-th) with its colliders (see the module's
+/// documentation), in a world that sleeps when `sleep` is on; sets `groups` when a collider
+/// needs the group rule.
+fn create_body(
+    world: &mut PhysicsWorld,
+    bits: &Bits,
+    i: usize,
+    b: &tumble_physics::BodyDef,
+    sleep: bool,
+    settings: &tumble_physics::StepSettings,
+    groups: &mut bool,
+) -> Result<RigidBodyHandle> {
+    let builder = match b.kind {
+        BodyKind::Static => RigidBodyBuilder::fixed(),
+        BodyKind::Dynamic => RigidBodyBuilder::dynamic(),
+        BodyKind::Kinematic => RigidBodyBuilder::kinematic_velocity_based(),
+    };
+    let asleep = !b.awake && sleep && b.kind == BodyKind::Dynamic;
+    let mut builder = builder
+        .translation(Vector::new(b.position[0], b.position[1]))
+        .rotation(b.angle)
+        .linvel(Vector::new(b.linear_velocity[0], b.linear_velocity[1]))
+        .angvel(b.angular_velocity)
+        .linear_damping(b.linear_damping)
+        .angular_damping(b.angular_damping)
+        .gravity_scale(b.gravity_scale)
+        .can_sleep(true)
+        .sleeping(asleep)
+        .ccd_enabled(false);
+    if b.fixed_rotation {
+        builder = builder.lock_rotations();
+    }
+    let handle = world.insert_body(builder);
+    for (k, part) in b.parts().iter().enumerate() {
+        let what = || format!("Rapier body {i}, part {k}");
+        let collider = match part_shape(part).with_context(what)? {
+            PartShape::Box {
+                half_extents: [hx, hy],
+                center,
+                angle,
+                radius,
+            } => if radius > 0.0 {
+                ColliderBuilder::round_cuboid(hx, hy, radius)
+            } else {
+                ColliderBuilder::cuboid(hx, hy)
+            }
+            .translation(Vector::from(center))
+            .rotation(angle),
+            PartShape::Circle { center, radius } => {
+                ColliderBuilder::ball(radius).translation(Vector::from(center))
+            }
+            PartShape::Polygon(points, radius) => {
+                let points = points.into_iter().map(Vector::from).collect();
+                if radius > 0.0 {
+                    ColliderBuilder::round_convex_polyline(points, radius)
+                } else {
+                    ColliderBuilder::convex_polyline(points)
+                }
+                .with_context(|| format!("{}: the polygon is not convex for Rapier", what()))?
+            }
+            PartShape::Capsule {
+                center1,
+                center2,
+                radius,
+            } => ColliderBuilder::capsule_from_endpoints(
+                Vector::from(center1),
+                Vector::from(center2),
+                radius,
+            ),
+            PartShape::Segment { point1, point2 } => {
+                ColliderBuilder::segment(Vector::from(point1), Vector::from(point2))
+            }
+            PartShape::Chain { points, looped } => {
+                // Rapier's oriented polyline: one-sided, pushing towards the right of
+                // each segment, as a chain does, with pseudo-normals at its vertices
+                // in place of ghost vertices. An open chain's end points, which only
+                // shape Box2D's and tumble's end segments, are left out; a loop closes
+                // by its indices.
+                let mut vertices: Vec<Vector> = points.into_iter().map(Vector::from).collect();
+                if !looped {
+                    vertices.pop();
+                    vertices.remove(0);
+                }
+                let n = vertices.len() as u32;
+                let edges = if looped { n } else { n - 1 };
+                let indices = (0..edges).map(|i| [i, (i + 1) % n]).collect();
+                ColliderBuilder::oriented_polyline(vertices, Some(indices))
+            }
+        };
+        let f = part.filter;
+        let (category, mask) = (bits.map(f.category), bits.map(f.mask));
+        let collider = collider
+            .density(part.density)
+            .friction(part.friction)
+            .friction_combine_rule(CoefficientCombineRule::GeometricMean)
+            .restitution(part.restitution)
+            .restitution_combine_rule(CoefficientCombineRule::Max)
+            .sensor(part.sensor)
+            .user_data(pack(category, mask, f.group));
+        let collider = if f.group == 0 {
+            collider.collision_groups(InteractionGroups::new(
+                Group::from_bits_retain(category),
+                Group::from_bits_retain(mask),
+                InteractionTestMode::And,
+            ))
+        } else {
+            *groups = true;
+            collider
+                .collision_groups(InteractionGroups::all())
+                .active_hooks(ActiveHooks::FILTER_CONTACT_PAIRS)
+        };
+        world.insert_collider(collider, Some(handle));
+    }
+    // After the colliders (which could wake it): whether and when it may sleep.
+    let activation = world.bodies[handle].activation_mut();
+    if sleep && b.enable_sleep {
+        activation.normalized_linear_threshold = settings.sleep_threshold;
+        activation.time_until_sleep = settings.time_to_sleep;
+    } else {
+        activation.normalized_linear_threshold = -1.0;
+        activation.angular_threshold = -1.0;
+    }
+    Ok(handle)
+}
+
 /// Creates the scene's joints (see the module's documentation) between the bodies `handles`.
 fn create_joints(
     world: &mut PhysicsWorld,
     handles: &[RigidBodyHandle],
     scene: &SceneDef,
     settings: &tumble_physics::StepSettings,
+    h: f32,
 ) -> Result<()> {
     use tumble_physics::JointKind;
-    let h = scene.dt / scene.substeps.max(1) as f32;
     for (index, joint) in scene_joints(scene, settings)?.iter().enumerate() {
         let what = || {
             format!(
@@ -630,6 +666,44 @@ impl Targets for Rapier {
         let w = turn.sin().atan2(turn.cos()) / dt;
         body.set_linvel(v, true);
         body.set_angvel(w, true);
+        Ok(())
+    }
+
+    fn spawn(&mut self, tag: u64, group: &SceneDef) -> Result<()> {
+        // Its filters are numbered as the scene's: a category the scene does not use would
+        // be lost.
+        let mut used = 0u64;
+        for b in &group.bodies {
+            for p in b.parts() {
+                used |= p.filter.category;
+            }
+        }
+        if self.bits.map(used).count_ones() != used.count_ones() {
+            bail!("Rapier: a group made at run time uses category bits the scene does not");
+        }
+        let mut handles = Vec::with_capacity(group.bodies.len());
+        for (i, b) in group.bodies.iter().enumerate() {
+            let handle = create_body(
+                &mut self.world,
+                &self.bits,
+                i,
+                b,
+                self.sleep,
+                &self.settings,
+                &mut self.groups,
+            )?;
+            handles.push(handle);
+        }
+        create_joints(&mut self.world, &handles, group, &self.settings, self.h)?;
+        self.spawned.entry(tag).or_default().extend(handles);
+        Ok(())
+    }
+
+    fn despawn(&mut self, tag: u64) -> Result<()> {
+        for handle in self.spawned.remove(&tag).unwrap_or_default() {
+            // With its colliders and joints.
+            self.world.remove_body(handle);
+        }
         Ok(())
     }
 }

@@ -1,5 +1,5 @@
 //! The joint cases of the accuracy report: a pendulum and a hinged rod against closed forms,
-//! a hanging ball and chain at three mass ratios, and Solver2D's bridge. Every metric comes
+//! a hanging ball and chain at three mass ratios, Solver2D's bridge and Box2D's joint grid. Every metric comes
 //! from the bodies' poses (the joints' anchors are put back on the bodies from the scene's
 //! joint definitions), so the same probe measures every engine.
 
@@ -23,6 +23,7 @@ pub fn all() -> Vec<Case> {
         cases.push(ball_and_chain(ratio));
     }
     cases.push(bridge());
+    cases.push(joint_grid());
     cases
 }
 
@@ -423,6 +424,143 @@ fn bridge() -> Case {
                 last: 0.0,
             })
         }),
+        scene,
+    }
+}
+
+/// How far apart each hinge's two anchors have come (the anchors put back on the bodies from
+/// the scene's joints), read from every body's pose.
+struct GapProbe {
+    /// Per hinge: body A, the anchor in A's frame, body B, the anchor in B's frame.
+    hinges: Vec<(usize, [f64; 2], usize, [f64; 2])>,
+    bodies: usize,
+    /// Steps between two readings during the run (every pose through the engine's API).
+    every: u32,
+    largest: f64,
+}
+
+impl GapProbe {
+    fn new(scene: &SceneDef, every: u32) -> GapProbe {
+        let frame = |i: usize| {
+            let b = &scene.bodies[i];
+            (
+                [f64::from(b.position[0]), f64::from(b.position[1])],
+                f64::from(b.angle),
+            )
+        };
+        let local = |i: usize, p: [f32; 2]| {
+            let ([x, y], a) = frame(i);
+            let (dx, dy) = (f64::from(p[0]) - x, f64::from(p[1]) - y);
+            let (s, c) = a.sin_cos();
+            [c * dx + s * dy, -s * dx + c * dy]
+        };
+        let hinges = scene
+            .joints
+            .iter()
+            .filter_map(|j| match j {
+                JointDef::Revolute {
+                    bodies: [a, b],
+                    anchor,
+                    anchor_b: None,
+                    ..
+                } => Some((*a, local(*a, *anchor), *b, local(*b, *anchor))),
+                _ => None,
+            })
+            .collect();
+        GapProbe {
+            hinges,
+            bodies: scene.bodies.len(),
+            every,
+            largest: 0.0,
+        }
+    }
+
+    /// The largest and the mean gap now.
+    fn gaps(&self, sim: &mut dyn Peer) -> Result<(f64, f64)> {
+        let mut poses = Vec::with_capacity(self.bodies);
+        for i in 0..self.bodies {
+            let [x, y, a] = sim.pose(i)?;
+            poses.push((f64::from(x), f64::from(y), f64::from(a)));
+        }
+        let world = |i: usize, p: [f64; 2]| {
+            let (x, y, a) = poses[i];
+            let (s, c) = a.sin_cos();
+            [x + c * p[0] - s * p[1], y + s * p[0] + c * p[1]]
+        };
+        let (mut largest, mut sum) = (0.0f64, 0.0f64);
+        for &(a, pa, b, pb) in &self.hinges {
+            let (wa, wb) = (world(a, pa), world(b, pb));
+            let gap = (wa[0] - wb[0]).hypot(wa[1] - wb[1]);
+            // A NaN pose makes the gap NaN: kept, so the run fails.
+            largest = if gap.is_nan() { gap } else { largest.max(gap) };
+            sum += gap;
+        }
+        Ok((largest, sum / self.hinges.len().max(1) as f64))
+    }
+}
+
+impl Probe for GapProbe {
+    fn after_step(&mut self, sim: &mut dyn Peer, step: u32) -> Result<()> {
+        if step.is_multiple_of(self.every) {
+            let (largest, _) = self.gaps(sim)?;
+            self.largest = if largest.is_nan() {
+                largest
+            } else {
+                self.largest.max(largest)
+            };
+        }
+        Ok(())
+    }
+    fn finish(&mut self, sim: &mut dyn Peer) -> Result<Vec<f64>> {
+        let (largest, mean) = self.gaps(sim)?;
+        let over_run = if largest.is_nan() {
+            largest
+        } else {
+            self.largest.max(largest)
+        };
+        Ok(vec![largest, mean, over_run])
+    }
+}
+
+/// Box2D's joint grid: 10,000 discs hung by 19,794 hinges from 7 fixed discs, swinging down.
+fn joint_grid() -> Case {
+    let scene = tumble_scene::builtin::build("joint_grid").expect("the built-in joint_grid");
+    let steps = 300;
+    let every = 10;
+    let probe_scene = scene.clone();
+    Case {
+        key: "joint_grid",
+        title: "Box2D's joint grid".into(),
+        steps,
+        setup: format!(
+            "A 100 × 100 grid of discs (radius 0.4 m, density 1) 1 m apart, each hinged to the \
+             one above and the one to its left ({} hinges), the top discs of the 7 middle \
+             columns fixed; the rest falls and swings down as a net hanging from them, its \
+             top hinges carrying up to 100 rows; {steps} steps (5 s). Box2D's `joint_grid` \
+             benchmark.",
+            GapProbe::new(&scene, every).hinges.len()
+        ),
+        definition: format!(
+            "Closed form: rigid hinges keep each hinge's two anchors together. **gap**: the \
+             distance between a hinge's anchor on one disc and on the other (each put back on \
+             its disc from the scene's definition and the disc's pose); **largest gap** and \
+             **mean gap** over all hinges at the end; **largest gap over the run**: read every \
+             {every} steps and at the end."
+        ),
+        criterion: "largest gap ≤ 1 cm, as for the ball and chain: a net whose hinges open by \
+                    more is visibly elastic. The hinges near the fixed discs hold the weight of \
+                    the rows below (up to 100 discs of 0.5 kg on a few hinges), through disc \
+                    masses of 0.5 kg: the soft step's give (load / (m ω²)) is largest there."
+            .into(),
+        metrics: vec![
+            MetricDef::new("largest gap (m)", "largest_gap_m")
+                .bound(0.01)
+                .plot(),
+            MetricDef::new("mean gap (m)", "mean_gap_m"),
+            MetricDef::new("largest gap over the run (m)", "largest_gap_run_m").plot(),
+        ],
+        extras: joint_extras(),
+        probe: Box::new(move || Box::new(GapProbe::new(&probe_scene, every))),
         scene,
     }
 }

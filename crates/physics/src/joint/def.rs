@@ -313,6 +313,20 @@ impl JointDef {
         }
     }
 
+    /// Body A and body B, to change (a definition made for one set of bodies placed on
+    /// another: a group of bodies and joints made again elsewhere in a world).
+    pub fn bodies_mut(&mut self) -> &mut [usize; 2] {
+        match self {
+            JointDef::Revolute { bodies, .. }
+            | JointDef::Prismatic { bodies, .. }
+            | JointDef::Wheel { bodies, .. }
+            | JointDef::Distance { bodies, .. }
+            | JointDef::Weld { bodies, .. }
+            | JointDef::Motor { bodies, .. }
+            | JointDef::Filter { bodies } => bodies,
+        }
+    }
+
     /// The variant's name, as in scene files.
     pub fn name(&self) -> &'static str {
         match self {

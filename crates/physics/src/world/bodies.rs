@@ -79,6 +79,7 @@ impl World {
             gravity_scale: def.gravity_scale,
             enable_sleep: def.enable_sleep,
             bullet: def.bullet,
+            user_data: 0,
         };
         let rotates = !(def.kind == BodyKind::Dynamic && def.fixed_rotation);
         let state = BodyState {
@@ -336,6 +337,20 @@ impl World {
         Ok(())
     }
 
+    /// Tags a body with a number of the caller's choosing (Box2D's `b2Body_SetUserData`,
+    /// Rapier's `user_data`): what a game keeps to find its own object from a body. A new body
+    /// carries 0; snapshots keep the tag; the step never reads it.
+    pub fn set_user_data(&mut self, id: BodyId, user_data: u64) -> Result<(), WorldError> {
+        let i = self.slot(id)?;
+        self.records[i].user_data = user_data;
+        Ok(())
+    }
+
+    /// The tag [`World::set_user_data`] gave a body (0 if none).
+    pub fn user_data(&self, id: BodyId) -> Result<u64, WorldError> {
+        self.slot(id).map(|i| self.records[i].user_data)
+    }
+
     /// Recomputes the fat boxes of a body's shapes and marks them moved (after the body was
     /// created or teleported).
     pub(super) fn refresh_shape_boxes(&mut self, body: u32) {
@@ -429,7 +444,7 @@ impl World {
             }
         }
         // What rested on it (a static ground moved away) must notice.
-        self.wake_touching(i as u32);
+        self.wake_touching(&[i as u32], |b| b == i as u32);
         self.refresh_shape_boxes(i as u32);
         self.debug_validate();
         Ok(())
@@ -493,7 +508,7 @@ impl World {
             }
         }
         // Its contacts' touching state and islands are rebuilt as if they were new.
-        self.wake_touching(i as u32);
+        self.wake_touching(&[i as u32], |b| b == i as u32);
         self.islands.remove_body(i as u32);
         if old == BodyKind::Kinematic {
             self.kinematic_count -= 1;
@@ -523,10 +538,45 @@ impl World {
     /// Destroys a body and its shapes (between steps). Bodies it touched wake up, and its
     /// slot is free for the next body under a new generation.
     pub fn destroy_body(&mut self, id: BodyId) -> Result<(), WorldError> {
-        let i = self.slot(id)?;
-        self.destroy_joints_of(i as u32);
-        self.wake_touching(i as u32);
-        self.remove_contacts_of(i as u32);
+        self.destroy_bodies(&[id])
+    }
+
+    /// Destroys several bodies at once (between steps), each as [`World::destroy_body`]
+    /// would: their joints, contacts and shapes go, and the bodies they touched wake. One pass
+    /// over the world's joints and one over its contacts serve them all, where a body at a
+    /// time takes a pass each: the call for a game that removes a group (a ragdoll, a wreck).
+    /// All or nothing: a stale or repeated id refuses the whole call and changes nothing.
+    pub fn destroy_bodies(&mut self, ids: &[BodyId]) -> Result<(), WorldError> {
+        let mut doomed = vec![false; self.sims.len()];
+        let mut slots = Vec::with_capacity(ids.len());
+        for &id in ids {
+            let i = self.slot(id)?;
+            if std::mem::replace(&mut doomed[i], true) {
+                return Err(WorldError::Invalid {
+                    what: format!("{id}"),
+                    why: "a body given twice to destroy_bodies".into(),
+                });
+            }
+            slots.push(i as u32);
+        }
+        let gone = |b: u32| doomed[b as usize];
+        for k in 0..self.joints.len() {
+            let j = &self.joints[k];
+            if self.joint_slots.is_alive(k) && (gone(j.body_a) || gone(j.body_b)) {
+                self.remove_joint(k);
+            }
+        }
+        self.wake_touching(&slots, gone);
+        self.remove_contacts_where(|c| gone(c.body_a) || gone(c.body_b));
+        for &i in &slots {
+            self.release_body(i as usize);
+        }
+        self.debug_validate();
+        Ok(())
+    }
+
+    /// Frees slot `i` of a body whose joints and contacts are gone.
+    fn release_body(&mut self, i: usize) {
         self.islands.remove_body(i as u32);
         let shapes: Vec<u32> = self.shapes_of_body(i).collect();
         for s in shapes {
@@ -542,8 +592,6 @@ impl World {
         self.solver_bodies[i] = SolverBody::default();
         self.refresh_motion(i as u32);
         self.body_slots.release(i as u32);
-        self.debug_validate();
-        Ok(())
     }
 
     /// Adds a shape to a body (between steps), checked as a scene part would be; the body's
@@ -621,7 +669,7 @@ impl World {
                 });
             }
         }
-        self.wake_touching(body);
+        self.wake_touching(&[body], |b| b == body);
         // Its contacts go.
         self.remove_contacts_where(|c| c.shape_a as usize == s || c.shape_b as usize == s);
         // Unlink it from the body's list.

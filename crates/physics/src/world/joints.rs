@@ -43,7 +43,9 @@ impl World {
             self.settings.joint_hertz,
             self.settings.joint_damping_ratio,
         );
-        Ok(self.insert_joint(joint))
+        let id = self.insert_joint(joint);
+        self.debug_validate();
+        Ok(id)
     }
 
     /// A mouse joint: pulls the point of `body` now at `target` towards wherever
@@ -90,7 +92,9 @@ impl World {
             kind: JointKind::Mouse(Mouse::new(target, hertz, damping_ratio, max_force)),
             step: Default::default(),
         };
-        Ok(self.insert_joint(joint))
+        let id = self.insert_joint(joint);
+        self.debug_validate();
+        Ok(id)
     }
 
     /// Moves a mouse joint's target.
@@ -114,7 +118,7 @@ impl World {
     }
 
     /// Puts a built joint in a slot, links its bodies' islands and keeps them apart unless
-    /// it lets them touch.
+    /// it lets them touch. The caller checks the stores afterwards (`debug_validate`).
     pub(super) fn insert_joint(&mut self, joint: Joint) -> JointId {
         self.sync_joints();
         self.joint_meta_stale = true;
@@ -135,10 +139,37 @@ impl World {
         }
         if keep_apart {
             *self.no_collide.entry(pair_key(a, b)).or_insert(0) += 1;
-            self.remove_contacts_where(|c| pair_key(c.body_a, c.body_b) == pair_key(a, b));
+            if self.have_contacts(a, b) {
+                self.remove_contacts_where(|c| pair_key(c.body_a, c.body_b) == pair_key(a, b));
+            }
         }
-        self.debug_validate();
         JointId { index, generation }
+    }
+
+    /// Whether bodies `a` and `b` have a contact: their shape pairs looked up in the pair map
+    /// (a joint made between steps, often of new bodies, need not scan every contact).
+    fn have_contacts(&self, a: u32, b: u32) -> bool {
+        let (na, nb) = (
+            self.shapes_of_body(a as usize).count(),
+            self.shapes_of_body(b as usize).count(),
+        );
+        let found = if na.saturating_mul(nb) <= self.contacts.len() {
+            self.shapes_of_body(a as usize).any(|sa| {
+                self.shapes_of_body(b as usize)
+                    .any(|sb| self.pairs.contains_key(&pair_key(sa, sb)))
+            })
+        } else {
+            self.contacts
+                .iter()
+                .any(|c| pair_key(c.body_a, c.body_b) == pair_key(a, b))
+        };
+        debug_assert_eq!(
+            found,
+            self.contacts
+                .iter()
+                .any(|c| pair_key(c.body_a, c.body_b) == pair_key(a, b))
+        );
+        found
     }
 
     fn is_dynamic(&self, body: u32) -> bool {
@@ -162,7 +193,7 @@ impl World {
         Ok(())
     }
 
-    fn remove_joint(&mut self, k: usize) {
+    pub(super) fn remove_joint(&mut self, k: usize) {
         self.sync_joints();
         self.joint_meta_stale = true;
         let joint = self.joints[k].clone();
@@ -189,16 +220,6 @@ impl World {
             self.refresh_shape_boxes(b);
         }
         self.joint_slots.release(k as u32);
-    }
-
-    /// Destroys every joint of `body` (which is about to go).
-    pub(super) fn destroy_joints_of(&mut self, body: u32) {
-        for k in 0..self.joints.len() {
-            let j = &self.joints[k];
-            if self.joint_slots.is_alive(k) && (j.body_a == body || j.body_b == body) {
-                self.remove_joint(k);
-            }
-        }
     }
 
     /// Joints in the world.

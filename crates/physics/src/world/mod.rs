@@ -177,6 +177,9 @@ struct BodyRecord {
     /// Its pairs with moving bodies are found by swept boxes too (see `core_aabbs`).
     #[serde(default)]
     bullet: bool,
+    /// The caller's tag for the body ([`World::set_user_data`]); the step never reads it.
+    #[serde(default)]
+    user_data: u64,
 }
 
 /// A shape on a body.
@@ -474,6 +477,9 @@ impl World {
             );
             world.insert_joint(joint);
         }
+        // Once for the whole scene (a check per joint would make a big scene's build
+        // quadratic in debug builds).
+        world.debug_validate();
         Ok(world)
     }
 

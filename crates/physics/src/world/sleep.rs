@@ -239,14 +239,16 @@ impl World {
         }
     }
 
-    /// Wakes the body and every body it touches (it is about to change or go, and what
-    /// rests on it must notice).
-    pub(super) fn wake_touching(&mut self, body: u32) {
-        self.wake_body(body);
+    /// Wakes `bodies` and every body touching one of them (they are about to change or go,
+    /// and what rests on them must notice); `among(b)` says whether body `b` is one of them.
+    pub(super) fn wake_touching(&mut self, bodies: &[u32], among: impl Fn(u32) -> bool) {
+        for &body in bodies {
+            self.wake_body(body);
+        }
         let mut others = Vec::new();
         for (c, key) in self.contacts.iter().zip(&self.contact_keys) {
-            if key.touching && (c.body_a == body || c.body_b == body) {
-                others.push(if c.body_a == body { c.body_b } else { c.body_a });
+            if key.touching && among(c.body_a) != among(c.body_b) {
+                others.push(if among(c.body_a) { c.body_b } else { c.body_a });
             }
         }
         let mut woke = false;

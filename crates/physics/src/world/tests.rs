@@ -440,3 +440,23 @@ fn contact_colors_cover_the_touching_contacts() {
         "{colors:?}"
     );
 }
+
+#[test]
+fn user_data_tags_a_body_until_it_is_destroyed_and_survives_a_snapshot() {
+    let mut w = ball_on_ground();
+    let ball = w.body_id(1).unwrap();
+    assert_eq!(w.user_data(ball).unwrap(), 0);
+    w.set_user_data(ball, 0xfeed_beef_0000_0042).unwrap();
+    let text = serde_json::to_string(&w.snapshot()).unwrap();
+    let restored = World::from_snapshot(serde_json::from_str(&text).unwrap()).unwrap();
+    assert_eq!(restored.user_data(ball).unwrap(), 0xfeed_beef_0000_0042);
+    // A destroyed body's id is refused, and the next body in its slot starts untagged.
+    w.destroy_body(ball).unwrap();
+    assert!(w.user_data(ball).is_err());
+    assert!(w.set_user_data(ball, 7).is_err());
+    let again = w
+        .create_body(&BodyDef::new(ShapeDef::Circle { radius: 0.5 }))
+        .unwrap();
+    assert_eq!(again.index, ball.index);
+    assert_eq!(w.user_data(again).unwrap(), 0);
+}
