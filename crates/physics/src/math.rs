@@ -6,6 +6,43 @@
 use glam::Vec2;
 use serde::{Deserialize, Serialize};
 
+/// The angle of the point (x, y) from the x axis, in [-π, π]; 0 at the origin. The arctangent
+/// on [0, 1] is the minimax polynomial of Abramowitz and Stegun 4.4.49 (error ≤ 2·10⁻⁸ rad in
+/// exact arithmetic; measured within 3·10⁻⁷ rad of f64's in f32, below), folded to the full
+/// circle by the octant symmetries. It is plain multiplies and adds: the same bits on every
+/// platform and build (the C library's `atan2f` differs between them), and about three times
+/// cheaper, which the joints' angle rows, solved eight times a step, feel.
+#[inline]
+pub fn atan2(y: f32, x: f32) -> f32 {
+    use std::f32::consts::{FRAC_PI_2, PI};
+    let (ax, ay) = (x.abs(), y.abs());
+    let (small, large) = if ay > ax { (ax, ay) } else { (ay, ax) };
+    if large == 0.0 {
+        // The origin. A NaN passes by and makes the result NaN.
+        return 0.0;
+    }
+    let t = small / large;
+    let t2 = t * t;
+    // A&S 4.4.49: atan t = t (1 + a2 t² + a4 t⁴ + ... + a16 t¹⁶), 0 ≤ t ≤ 1, the sum in
+    // t² evaluated by Estrin's scheme (pairs, then pairs of pairs): a short chain of
+    // dependent operations, where Horner's rule is one long one.
+    let s2 = t2 * t2;
+    let s4 = s2 * s2;
+    let e0 = -0.333_331_452_8_f32 + 0.199_935_508_5 * t2;
+    let e1 = -0.142_088_994_4_f32 + 0.106_562_639_3 * t2;
+    let e2 = -0.075_289_64_f32 + 0.042_909_613_8 * t2;
+    let e3 = -0.016_165_736_7_f32 + 0.002_866_225_7 * t2;
+    let p = (e0 + e1 * s2) + (e2 + e3 * s2) * s4;
+    let mut r = t + t * (p * t2);
+    if ay > ax {
+        r = FRAC_PI_2 - r;
+    }
+    if x < 0.0 {
+        r = PI - r;
+    }
+    if y < 0.0 { -r } else { r }
+}
+
 /// A rotation stored as its cosine and sine.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Rot {
@@ -31,9 +68,10 @@ impl Rot {
         Rot { c, s }
     }
 
-    /// The angle in (-π, π].
+    /// The angle in [-π, π] ([`atan2`]).
+    #[inline]
     pub fn angle(self) -> f32 {
-        self.s.atan2(self.c)
+        atan2(self.s, self.c)
     }
 
     /// Rotates a vector.
@@ -174,6 +212,33 @@ pub fn normalize_and_length(v: Vec2) -> (Vec2, f32) {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn atan2_is_within_3e_7_of_f64_all_round_the_circle() {
+        // 2^20 points round the circle, on the unit circle and far from it, plus the axes.
+        let mut worst = 0.0f64;
+        for k in 0..(1 << 20) {
+            let a = -std::f64::consts::PI
+                + (k as f64 + 0.5) * std::f64::consts::TAU / f64::from(1 << 20);
+            for r in [1.0f64, 1e-3, 7e4] {
+                let (y, x) = ((a.sin() * r) as f32, (a.cos() * r) as f32);
+                let exact = f64::from(y).atan2(f64::from(x));
+                worst = worst.max((f64::from(atan2(y, x)) - exact).abs());
+            }
+        }
+        assert!(worst < 3e-7, "worst error {worst:e} rad");
+        for (y, x, exact) in [
+            (0.0f32, 1.0f32, 0.0f32),
+            (1.0, 0.0, std::f32::consts::FRAC_PI_2),
+            (0.0, -1.0, std::f32::consts::PI),
+            (-1.0, 0.0, -std::f32::consts::FRAC_PI_2),
+            (1.0, 1.0, std::f32::consts::FRAC_PI_4),
+            (0.0, 0.0, 0.0),
+        ] {
+            assert!((atan2(y, x) - exact).abs() <= 2e-7, "atan2({y}, {x})");
+        }
+        assert!(atan2(f32::NAN, 1.0).is_nan() && atan2(1.0, f32::NAN).is_nan());
+    }
+
     use super::*;
 
     #[test]

@@ -105,20 +105,21 @@ pub fn script(name: &str) -> Option<Script> {
 }
 
 /// Box2D's `StepRain` (tumble's `rain::step`): every 8 steps a column of groups, one per row,
-/// made; once the 40 columns are full, the oldest column's groups destroyed and made again,
-/// row by row.
+/// made; once the 40 columns are full, the oldest column's groups destroyed (all rows, then)
+/// and made again, row by row.
 #[cfg(feature = "peers")]
 fn rain(steps: u64, world: &mut dyn Targets) -> Result<()> {
     use tumble_scene::builtin::rain;
     let Some((column, replace)) = rain::wave(steps) else {
         return Ok(());
     };
-    for row in 0..rain::ROWS {
-        let tag = rain::tag(row, column);
-        if replace {
-            world.despawn(tag)?;
+    if replace {
+        for row in 0..rain::ROWS {
+            world.despawn(rain::tag(row, column))?;
         }
-        world.spawn(tag, &rain::group(row, column))?;
+    }
+    for row in 0..rain::ROWS {
+        world.spawn(rain::tag(row, column), &rain::group(row, column))?;
     }
     Ok(())
 }

@@ -118,8 +118,14 @@ impl World {
         self.records[i].parts = parts.len() as u32;
         // A body of one shape: its position is its centre of mass (its one shape is centred
         // there). A body of several: its position is its frame's origin, and `update_mass`
-        // moves the centre to where the parts put it.
-        self.update_mass(index);
+        // moves the centre to where the parts put it. It has no contacts to tell.
+        debug_assert!(
+            !self
+                .contacts
+                .iter()
+                .any(|c| c.body_a == index || c.body_b == index)
+        );
+        self.set_mass_data(index);
         let asleep = !def.awake && self.settings.enable_sleep && def.kind == BodyKind::Dynamic;
         if def.kind == BodyKind::Dynamic {
             self.islands.create(index, !asleep);
@@ -222,6 +228,13 @@ impl World {
     /// the centre, and the masses the body's contacts keep. The centre of mass keeps its
     /// place in the body's frame: the frame stays where it is and the centre moves.
     pub(super) fn update_mass(&mut self, body: u32) {
+        self.set_mass_data(body);
+        self.refresh_contact_masses(body);
+    }
+
+    /// [`World::update_mass`] without telling the contacts: for a body just made, which has
+    /// none (a scan of every contact per body made would cost a world making many).
+    fn set_mass_data(&mut self, body: u32) {
         let i = body as usize;
         let kind = self.sims[i].kind;
         let shape_ids: Vec<u32> = self.shapes_of_body(i).collect();
@@ -273,7 +286,11 @@ impl World {
             r.offset = r.from_center != Transform::IDENTITY;
         }
         self.refresh_motion(body);
-        // Contacts keep a copy of their bodies' masses (prepare reads no body): refresh it.
+    }
+
+    /// Contacts keep a copy of their bodies' masses (prepare reads no body): refreshes body
+    /// `body`'s. A body just made has no contacts yet and skips this scan of them all.
+    fn refresh_contact_masses(&mut self, body: u32) {
         // (The colouring needs no telling: it is checked against the touching pairs.)
         self.awake_contacts_stale = true;
         for (c, key) in self.contacts.iter_mut().zip(&mut self.contact_keys) {
@@ -563,7 +580,7 @@ impl World {
         for k in 0..self.joints.len() {
             let j = &self.joints[k];
             if self.joint_slots.is_alive(k) && (gone(j.body_a) || gone(j.body_b)) {
-                self.remove_joint(k);
+                self.remove_joint(k, gone);
             }
         }
         self.wake_touching(&slots, gone);

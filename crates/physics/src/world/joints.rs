@@ -188,12 +188,14 @@ impl World {
     /// apart.
     pub fn destroy_joint(&mut self, id: JointId) -> Result<(), WorldError> {
         let k = self.joint_slot(id)?;
-        self.remove_joint(k);
+        self.remove_joint(k, |_| false);
         self.debug_validate();
         Ok(())
     }
 
-    pub(super) fn remove_joint(&mut self, k: usize) {
+    /// Removes joint `k`; `gone(b)` says whether body `b` is being destroyed with it (its
+    /// shapes need not look for new pairs).
+    pub(super) fn remove_joint(&mut self, k: usize, gone: impl Fn(u32) -> bool) {
         self.sync_joints();
         self.joint_meta_stale = true;
         let joint = self.joints[k].clone();
@@ -216,8 +218,11 @@ impl World {
                 }
             }
             // Their shapes look for each other again.
-            self.refresh_shape_boxes(a);
-            self.refresh_shape_boxes(b);
+            for body in [a, b] {
+                if !gone(body) {
+                    self.refresh_shape_boxes(body);
+                }
+            }
         }
         self.joint_slots.release(k as u32);
     }

@@ -104,28 +104,27 @@ pub fn spawn(world: &mut World, tag: u64, group: &SceneDef) -> Result<(), WorldE
     Ok(())
 }
 
-/// The script: Box2D's `StepRain`. A wave that replaces a column destroys and remakes its
-/// groups row by row, as Box2D does.
+/// The script: Box2D's `StepRain`. A wave that replaces a column destroys its old groups
+/// (all rows at once: one [`World::destroy_bodies`], where Box2D destroys row by row; the
+/// world after is the same), then makes them again row by row.
 pub fn step(steps: u64, world: &mut World) {
     let Some((column, replace)) = wave(steps) else {
         return;
     };
-    let mut old: Vec<Vec<BodyId>> = vec![Vec::new(); ROWS];
     if replace {
         // One pass over the bodies finds all the column's groups.
-        for id in world.body_ids() {
-            let data = world.user_data(id).unwrap_or(0);
-            if data & !0xffff_ffff == TAG {
+        let old: Vec<BodyId> = world
+            .body_ids()
+            .filter(|&id| {
+                let data = world.user_data(id).unwrap_or(0);
                 let index = (data & 0xffff_ffff) as usize;
-                if index % COLUMNS == column && index / COLUMNS < ROWS {
-                    old[index / COLUMNS].push(id);
-                }
-            }
-        }
-    }
-    for (row, old) in old.into_iter().enumerate() {
+                data & !0xffff_ffff == TAG && index % COLUMNS == column && index / COLUMNS < ROWS
+            })
+            .collect();
         // Found alive just now, each once: the call cannot be refused.
         let _ = world.destroy_bodies(&old);
+    }
+    for row in 0..ROWS {
         // The group is fixed data that builds; a world too full for it stays as it is.
         let _ = spawn(world, tag(row, column), &group(row, column));
     }
