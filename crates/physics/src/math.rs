@@ -13,6 +13,8 @@ use serde::{Deserialize, Serialize};
 /// platform and build (the C library's `atan2f` differs between them), and about three times
 /// cheaper, which the joints' angle rows, solved eight times a step, feel.
 #[inline]
+// The coefficients as A&S print them (f32 rounds them), so they can be checked against it.
+#[allow(clippy::excessive_precision)]
 pub fn atan2(y: f32, x: f32) -> f32 {
     use std::f32::consts::{FRAC_PI_2, PI};
     let (ax, ay) = (x.abs(), y.abs());
