@@ -103,6 +103,11 @@ impl<'a, T> SharedSlice<'a, T> {
         }
     }
 
+    /// Its length.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
     /// The address of element `i`, not checked and not dereferenced: for cache hints.
     pub fn as_ptr_at(&self, i: usize) -> *const T {
         self.ptr.wrapping_add(i)

@@ -118,18 +118,23 @@ fn shared(a: &Joint, b: &Joint) -> u32 {
 
 /// One pass over a chain's point rows, solved together (see the module's note). `joints`
 /// are consecutive along the path: each shares a dynamic body with the next.
-pub fn solve(joints: &mut [Joint], states: &BodyStates<'_>, use_bias: bool) {
-    ROWS.with_borrow_mut(|rows| {
-        for run in joints.chunks_mut(MAX_RUN) {
-            rows.clear();
-            solve_rows(run, states, use_bias, rows);
-        }
-    });
+/// `rows` holds at least the longest run's (`MAX_RUN` or the chain's length): the solver
+/// keeps them, sized when the chains change, so a steady step allocates nothing on whatever
+/// worker runs the chains.
+pub fn solve(joints: &mut [Joint], states: &BodyStates<'_>, use_bias: bool, rows: &mut [Row]) {
+    for run in joints.chunks_mut(MAX_RUN) {
+        solve_rows(run, states, use_bias, rows);
+    }
+}
+
+/// The rows a chain of `len` joints needs.
+pub fn rows_needed(len: usize) -> usize {
+    len.min(MAX_RUN)
 }
 
 /// One joint's row of the block system, and its bodies' state.
-#[derive(Clone, Copy, Debug)]
-struct Row {
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Row {
     /// K_ii, then D'_i of the elimination.
     diag: M2,
     /// D'_i⁻¹.
@@ -143,15 +148,10 @@ struct Row {
     pair: Pair,
 }
 
-thread_local! {
-    /// Each thread's rows, kept between solves: a steady step allocates nothing.
-    static ROWS: std::cell::RefCell<Vec<Row>> = const { std::cell::RefCell::new(Vec::new()) };
-}
-
-fn solve_rows(joints: &mut [Joint], states: &BodyStates<'_>, bias: bool, rows: &mut Vec<Row>) {
+fn solve_rows(joints: &mut [Joint], states: &BodyStates<'_>, bias: bool, rows: &mut [Row]) {
     let n = joints.len();
     // Each joint's rows: K_ii, the right-hand side Cdot + bias, and its pair's state.
-    for j in joints.iter() {
+    for (j, row) in joints.iter().zip(rows.iter_mut()) {
         let p = j.load(states);
         let (ra, rb, d) = super::anchors(&j.step, &p);
         let b = if bias {
@@ -159,14 +159,14 @@ fn solve_rows(joints: &mut [Joint], states: &BodyStates<'_>, bias: bool, rows: &
         } else {
             Vec2::ZERO
         };
-        rows.push(Row {
+        *row = Row {
             diag: M2::sym(super::point_mass(&j.step, ra, rb)),
             inv: M2::default(),
             upper: M2::default(),
             rhs: p.relative_velocity(ra, rb) + b,
             x: Vec2::ZERO,
             pair: p,
-        });
+        };
     }
     // K_i,i+1 through the shared body s: σ_i σ_i+1 (m_s⁻¹ I + i_s⁻¹ perp(r_i) perp(r_i+1)ᵀ),
     // where σ is +1 where s is the joint's B and perp(r) = (−r.y, r.x).

@@ -140,7 +140,7 @@ pub struct JointContext {
 }
 
 /// Two bodies' velocities and substep deltas as one joint row sees them.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct Pair {
     pub va: Vec2,
     pub wa: f32,

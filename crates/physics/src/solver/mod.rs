@@ -125,6 +125,8 @@ pub struct Solver {
     /// start of the overflow stage, and each chain's range there (and in `joint_order`).
     chain_order: Vec<u32>,
     chain_ranges: Vec<Range<usize>>,
+    /// The chain solve's rows, enough for the longest chain (sized when the chains change).
+    chain_rows: Vec<crate::joint::chain::Row>,
     /// The slots of `solver_joints`, in order: the stage order they were copied in; and for
     /// each slot its copy's index (`u32::MAX`: none).
     copy_order: Vec<u32>,
@@ -237,6 +239,14 @@ impl Solver {
             self.chain_order.extend_from_slice(chains);
             self.chain_ranges.clear();
             self.chain_ranges.extend_from_slice(chain_ranges);
+            let rows = chain_ranges
+                .iter()
+                .map(|r| crate::joint::chain::rows_needed(r.len()))
+                .max()
+                .unwrap_or(0);
+            if self.chain_rows.len() < rows {
+                self.chain_rows.resize(rows, Default::default());
+            }
             self.color(joints, touching, body_count, spread, min_check);
             self.colored_for = Some(key);
         }
@@ -741,6 +751,7 @@ impl Solver {
             use_avx: self.use_avx,
             joints: SharedSlice::new(joints),
             chains: &self.chain_ranges,
+            chain_rows: SharedSlice::new(&mut self.chain_rows),
         };
         if workers == 1 {
             let states = BodyStates::exclusive(states);
@@ -1012,6 +1023,8 @@ struct Passes<'a> {
     joints: SharedSlice<'a, Joint>,
     /// The chains' ranges of the joints (in the overflow stage's).
     chains: &'a [Range<usize>],
+    /// Their solve's rows (the overflow stage's one worker uses them).
+    chain_rows: SharedSlice<'a, crate::joint::chain::Row>,
 }
 
 impl Passes<'_> {
@@ -1036,13 +1049,15 @@ impl Passes<'_> {
             && range.start == 0
             && range.end >= last.end
         {
+            // SAFETY: the overflow stage runs on one worker, alone.
+            let rows = unsafe { self.chain_rows.range_mut(0..self.chain_rows.len()) };
             for chain in self.chains {
-                // SAFETY: the overflow stage runs on one worker, alone.
+                // SAFETY: as above.
                 let joints = unsafe { self.joints.range_mut(chain.clone()) };
                 match stage.pass {
                     Pass::WarmStart => joints.iter_mut().for_each(|j| j.warm_start(states)),
-                    Pass::Solve => crate::joint::chain::solve(joints, states, true),
-                    Pass::Relax => crate::joint::chain::solve(joints, states, false),
+                    Pass::Solve => crate::joint::chain::solve(joints, states, true, rows),
+                    Pass::Relax => crate::joint::chain::solve(joints, states, false, rows),
                     _ => {}
                 }
             }
