@@ -15,8 +15,7 @@ pub fn run(world: &mut World, scene: &SceneDef, n: u32) {
     // A built-in's script (junkyard's pusher, rain's ragdolls) runs before each step, as in
     // the runner, `compare` and the viewer; only for the built-in itself, not a scene changed
     // from it.
-    let script = tumble_scene::builtin::script(&scene.name)
-        .filter(|_| tumble_scene::builtin::build(&scene.name).as_ref() == Some(scene));
+    let script = tumble_scene::builtin::script_for(scene);
     for _ in 0..n {
         if let Some(script) = script {
             script(world.step_count(), world);

@@ -449,7 +449,7 @@ impl Sim {
             metrics: crate::metrics::Metrics::default(),
             script: None,
         };
-        sim.script = script_of(&sim.scene);
+        sim.script = tumble_scene::builtin::script_for(&sim.scene);
         sim.metrics = crate::metrics::Metrics::new(&sim.scene, &sim.world);
         sim.set_threads(threads);
         Ok(sim)
@@ -550,7 +550,7 @@ impl Sim {
         if *self.scene != saved.scene {
             self.clock = FixedStep::new(saved.scene.dt);
             self.scene = Arc::new(saved.scene);
-            self.script = script_of(&self.scene);
+            self.script = tumble_scene::builtin::script_for(&self.scene);
         }
         self.install_world(world, saved.steps);
         self.substeps = saved.substeps;
@@ -744,13 +744,6 @@ impl Sim {
         });
         true
     }
-}
-
-/// The per-step script of a built-in scene (the scene as the built-in builds it, whatever
-/// its source: a file with another body list under a built-in's name gets none).
-fn script_of(scene: &SceneDef) -> Option<Script> {
-    let script = tumble_scene::builtin::script(&scene.name)?;
-    (tumble_scene::builtin::build(&scene.name)? == *scene).then_some(script)
 }
 
 /// Builds a scene's world with the loader's limits.
@@ -1088,7 +1081,7 @@ mod tests {
         assert!(Sim::new(scene("pyramid"), 1).unwrap().script.is_none());
         let mut changed = (*junkyard).clone();
         changed.bodies.remove(1);
-        assert!(script_of(&changed).is_none());
+        assert!(tumble_scene::builtin::script_for(&changed).is_none());
     }
 
     #[test]

@@ -120,6 +120,13 @@ pub fn script(name: &str) -> Option<Script> {
     }
 }
 
+/// The per-step script of `scene` if it is a built-in as the built-in builds it, whatever its
+/// source: a scene under a built-in's name with other bodies or settings gets none.
+pub fn script_for(scene: &SceneDef) -> Option<Script> {
+    let script = script(&scene.name)?;
+    (build(&scene.name)? == *scene).then_some(script)
+}
+
 /// A one- or two-sentence menu description of the named scene.
 pub fn describe(name: &str) -> Option<&'static str> {
     Some(match name {

@@ -428,6 +428,16 @@ fn bridge() -> Case {
     }
 }
 
+/// The larger of `a` and `b`, NaN if either is (`f64::max` drops a NaN: a run that went
+/// non-finite must fail).
+fn max_keeping_nan(a: f64, b: f64) -> f64 {
+    if a.is_nan() || b.is_nan() {
+        f64::NAN
+    } else {
+        a.max(b)
+    }
+}
+
 /// How far apart each hinge's two anchors have come (the anchors put back on the bodies from
 /// the scene's joints), read from every body's pose.
 struct GapProbe {
@@ -492,7 +502,7 @@ impl GapProbe {
             let (wa, wb) = (world(a, pa), world(b, pb));
             let gap = (wa[0] - wb[0]).hypot(wa[1] - wb[1]);
             // A NaN pose makes the gap NaN: kept, so the run fails.
-            largest = if gap.is_nan() { gap } else { largest.max(gap) };
+            largest = max_keeping_nan(largest, gap);
             sum += gap;
         }
         Ok((largest, sum / self.hinges.len().max(1) as f64))
@@ -503,22 +513,13 @@ impl Probe for GapProbe {
     fn after_step(&mut self, sim: &mut dyn Peer, step: u32) -> Result<()> {
         if step.is_multiple_of(self.every) {
             let (largest, _) = self.gaps(sim)?;
-            self.largest = if largest.is_nan() {
-                largest
-            } else {
-                self.largest.max(largest)
-            };
+            self.largest = max_keeping_nan(self.largest, largest);
         }
         Ok(())
     }
     fn finish(&mut self, sim: &mut dyn Peer) -> Result<Vec<f64>> {
         let (largest, mean) = self.gaps(sim)?;
-        let over_run = if largest.is_nan() {
-            largest
-        } else {
-            self.largest.max(largest)
-        };
-        Ok(vec![largest, mean, over_run])
+        Ok(vec![largest, mean, max_keeping_nan(self.largest, largest)])
     }
 }
 
