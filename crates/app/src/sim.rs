@@ -177,7 +177,7 @@ pub struct ProfileSample {
     /// The whole step (ms).
     pub step_ms: f64,
     /// Each stage (ms), in pipeline order.
-    pub stages: [(&'static str, f64); 6],
+    pub stages: [(&'static str, f64); 7],
 }
 
 /// Seconds of the past the replay can go back to.

@@ -201,9 +201,9 @@ mod imp {
         }
         fn stages(&mut self) -> Vec<(&'static str, f64)> {
             // tumble's own stages are the common ones, in the same step order (both arrays
-            // are six long, so a stage added to one without the other fails to compile).
-            let names: [&'static str; 6] = crate::peers::STAGES;
-            let stages: [(&str, f64); 6] = self.world.profile().stages();
+            // are seven long, so a stage added to one without the other fails to compile).
+            let names: [&'static str; 7] = crate::peers::STAGES;
+            let stages: [(&str, f64); 7] = self.world.profile().stages();
             names
                 .into_iter()
                 .zip(stages)

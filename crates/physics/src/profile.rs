@@ -18,6 +18,9 @@ pub struct StepProfile {
     pub store_impulses_ms: f64,
     /// Apply the substep deltas to transforms, update bounding boxes.
     pub finalize_ms: f64,
+    /// Events: hits among the contacts that began, and each sensor's overlaps (nothing in a
+    /// world without sensors where no contact began).
+    pub events_ms: f64,
     /// Bodies in the world.
     pub bodies: usize,
     /// Contacts (pairs whose fat boxes overlap).
@@ -51,18 +54,19 @@ pub struct StepProfile {
 }
 
 /// Names of the timed stages, in pipeline order.
-pub const STAGE_NAMES: [&str; 6] = [
+pub const STAGE_NAMES: [&str; 7] = [
     "broad_phase",
     "narrow_phase",
     "prepare",
     "solve",
     "store_impulses",
     "finalize",
+    "events",
 ];
 
 impl StepProfile {
     /// `(stage name, ms)` for each stage, in pipeline order.
-    pub fn stages(&self) -> [(&'static str, f64); 6] {
+    pub fn stages(&self) -> [(&'static str, f64); 7] {
         let ms = [
             self.broad_phase_ms,
             self.narrow_phase_ms,
@@ -70,6 +74,7 @@ impl StepProfile {
             self.solve_ms,
             self.store_impulses_ms,
             self.finalize_ms,
+            self.events_ms,
         ];
         std::array::from_fn(|i| (STAGE_NAMES[i], ms[i]))
     }

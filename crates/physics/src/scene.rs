@@ -238,8 +238,8 @@ pub struct PartDef {
         deserialize_with = "present"
     )]
     pub filter: Option<Filter>,
-    /// A sensor detects overlaps and never pushes anything. Sensor events are not built
-    /// yet (issue 18): a sensor part today is a part that touches nothing.
+    /// A sensor detects overlaps ([`crate::Event::SensorBegin`] and `SensorEnd`) and never
+    /// pushes anything.
     #[serde(default, skip_serializing_if = "is_false")]
     #[cfg_attr(feature = "schema", schemars(extend("default" = false)))]
     pub sensor: bool,
@@ -273,6 +273,11 @@ impl PartDef {
     /// Builder: filter.
     pub fn filter(mut self, filter: Filter) -> PartDef {
         self.filter = Some(filter);
+        self
+    }
+    /// Builder: a sensor (see [`PartDef::sensor`]'s field).
+    pub fn sensor(mut self, sensor: bool) -> PartDef {
+        self.sensor = sensor;
         self
     }
 }
@@ -581,7 +586,7 @@ pub struct SceneDef {
     #[serde(default = "yes", skip_serializing_if = "is_true")]
     #[cfg_attr(feature = "schema", schemars(extend("default" = true)))]
     pub continuous: bool,
-    /// Approach speed of a `hit` event (m/s; events are issue 18): accepted and kept.
+    /// Least approach speed of a `hit` event (m/s, >= 0; see [`crate::Event::Hit`]).
     #[serde(default = "one", skip_serializing_if = "is_one")]
     #[cfg_attr(feature = "schema", schemars(extend("default" = 1.0)))]
     pub hit_speed: f32,
@@ -798,6 +803,14 @@ impl SceneDef {
                     "a finite number > 0 of at least {:e} seconds per step (1/60 is usual)",
                     f32::MIN_POSITIVE
                 ),
+            ));
+        }
+        if !(self.hit_speed.is_finite() && self.hit_speed >= 0.0) {
+            return Err(scene_err(
+                "hit_speed",
+                self.hit_speed.to_string(),
+                "a finite number >= 0 (m/s; a contact beginning at least this fast is a hit \
+                 event; the default is 1)",
             ));
         }
         if self.substeps == 0 || self.substeps > limits.max_substeps {

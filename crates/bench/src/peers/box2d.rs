@@ -600,6 +600,10 @@ impl Peer for Box2d {
                 "finalize",
                 ms(p.transforms) + ms(p.split_islands) + ms(p.sleep_islands) + ms(p.bullets),
             ),
+            (
+                "events",
+                ms(p.sensors) + ms(p.sensor_hits) + ms(p.hit_events) + ms(p.joint_events),
+            ),
         ]
     }
 }

@@ -47,15 +47,17 @@ pub trait Peer {
 /// Stage names comparable across engines, in step order: finding new pairs (and refitting
 /// the tree), the narrow phase, preparing constraints, the substep loop (integration, warm
 /// start, solve, relax, restitution), storing impulses for the next warm start, finalizing
-/// bodies. What each engine counts in each is said where it reports them.
+/// bodies, events (hits, sensor overlaps). What each engine counts in each is said where it
+/// reports them.
 #[cfg_attr(not(feature = "peers"), allow(dead_code))]
-pub const STAGES: [&str; 6] = [
+pub const STAGES: [&str; 7] = [
     "broad phase",
     "narrow phase",
     "prepare",
     "substeps",
     "store impulses",
     "finalize",
+    "events",
 ];
 
 /// A peer error as an `anyhow` error (the peers' error types are not all `Send + Sync`).

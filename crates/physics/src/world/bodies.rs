@@ -188,6 +188,9 @@ impl World {
             self.core_aabbs[s] = empty;
             self.moved_flags[s] = false;
         }
+        if part.sensor {
+            self.add_sensor(index);
+        }
         self.proxies_changed = true;
         self.tree_dirty = true;
         ShapeId { index, generation }
@@ -715,6 +718,9 @@ impl World {
             self.moved_flags[su] = false;
             self.moved.retain(|&m| m != s);
         }
+        if self.shape_records[su].sensor {
+            self.sensors.remove(&s);
+        }
         self.shape_records[su].next = NONE;
         self.shape_records[su].body = NONE;
         self.shape_body[su] = NONE;
@@ -729,7 +735,7 @@ impl World {
     }
 
     /// Removes the contacts `gone` picks, keeping the others' order; a touching one unlinks
-    /// its bodies' island.
+    /// its bodies' island and ends its touch (a contact end event).
     pub(super) fn remove_contacts_where(&mut self, gone: impl Fn(&Contact) -> bool) {
         let mut keep = 0;
         for k in 0..self.contacts.len() {
@@ -737,6 +743,7 @@ impl World {
             if gone(&c) {
                 if c.touched {
                     self.islands.unlink(c.body_a, c.body_b);
+                    self.touch_changed(c.shape_a, c.shape_b, false);
                 }
                 continue;
             }

@@ -10,6 +10,7 @@
 //! next, under a new generation.
 
 mod bodies;
+mod events;
 mod joints;
 mod read;
 mod settings;
@@ -41,6 +42,7 @@ use crate::solver::{
     BodyMotion, ContactInput, NOT_DYNAMIC, Solver, SolverBody, SolverContact, Touching,
 };
 
+pub use events::{BodyMove, Event, ShapeRef};
 pub use settings::{StepSettings, WideThresholds};
 pub use snapshot::WorldSnapshot;
 pub use threads::{SpawnWorker, default_thread_count, set_thread_source};
@@ -217,6 +219,10 @@ struct Contact {
     /// Touching at the end of the last narrow phase (to see it begin and end).
     #[serde(default)]
     touched: bool,
+    /// It began touching and has not pushed yet: a hit event is still to be judged (see
+    /// `World::gather_hits`).
+    #[serde(default)]
+    hit_pending: bool,
     /// The bodies' masses, refreshed from the bodies whenever one's mass data change (see
     /// `ContactInput::masses`). Not stored in snapshots: restoring copies them again.
     #[serde(skip)]
@@ -387,6 +393,10 @@ pub struct World {
     /// made, destroyed or edited.
     joint_meta: Vec<joints::JointMeta>,
     joint_meta_stale: bool,
+    /// The last step's events (and those made since), and what gathering them needs.
+    event_log: events::EventLog,
+    /// Each sensor shape's overlaps after the last step.
+    sensors: events::SensorOverlaps,
 }
 
 impl World {
@@ -448,6 +458,8 @@ impl World {
             joint_copies: false,
             joint_meta: Vec::new(),
             joint_meta_stale: true,
+            event_log: events::EventLog::default(),
+            sensors: events::SensorOverlaps::new(),
         }
     }
 
@@ -458,6 +470,7 @@ impl World {
         let mut settings = StepSettings {
             gravity: Vec2::from(scene.gravity),
             enable_sleep: scene.sleep,
+            hit_speed: scene.hit_speed,
             ..StepSettings::default()
         };
         scene.solver.apply(&mut settings);

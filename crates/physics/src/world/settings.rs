@@ -58,6 +58,14 @@ pub struct StepSettings {
     /// Damping ratio of a joint's rigid rows (Box2D's 2), given to each joint as it is made.
     #[serde(default = "joint_damping_ratio")]
     pub joint_damping_ratio: f32,
+    /// Least approach speed (m/s) of a contact that begins for it to be a hit event (a
+    /// scene's `hit_speed`; Box2D's `hitEventThreshold`, 1 m/s).
+    #[serde(default = "hit_speed")]
+    pub hit_speed: f32,
+}
+
+fn hit_speed() -> f32 {
+    1.0
 }
 
 fn joint_hertz() -> f32 {
@@ -100,6 +108,7 @@ impl Default for StepSettings {
             time_to_sleep: time_to_sleep(),
             joint_hertz: joint_hertz(),
             joint_damping_ratio: joint_damping_ratio(),
+            hit_speed: hit_speed(),
         }
     }
 }
@@ -177,6 +186,7 @@ impl StepSettings {
             self.joint_damping_ratio,
             "Box2D's default is 2",
         )?;
+        non_negative("hit_speed", self.hit_speed, "m/s; Box2D's default is 1")?;
         if !(self.max_linear_speed.is_finite() && self.max_linear_speed > 0.0) {
             return Err(err(
                 "max_linear_speed",

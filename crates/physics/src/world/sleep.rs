@@ -37,8 +37,11 @@ impl World {
                 continue;
             }
             c.touched = now;
+            c.hit_pending = now;
             let (a, b) = (c.body_a, c.body_b);
             let dynamic = (c.masses[0].dynamic, c.masses[1].dynamic);
+            let (shape_a, shape_b) = (c.shape_a, c.shape_b);
+            self.touch_changed(shape_a, shape_b, now);
             if now {
                 for body in [a, b] {
                     if self.sims[body as usize].kind == BodyKind::Dynamic

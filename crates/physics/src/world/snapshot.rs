@@ -48,6 +48,14 @@ pub struct WorldSnapshot {
     /// The last step's substep rate, which the joints' reaction forces are read with.
     #[serde(default)]
     last_inv_h: f32,
+    /// Each sensor shape's overlaps (absent from snapshots written before sensors detected
+    /// anything: every sensor then starts with none).
+    #[serde(default)]
+    sensors: super::events::SensorOverlaps,
+    /// Contacts (by their shapes' pair, with the step they began) that began and have not
+    /// pushed: hits still to judge.
+    #[serde(default)]
+    unpushed_hits: Vec<(u64, u64)>,
 }
 
 impl WorldSnapshot {
@@ -112,6 +120,8 @@ impl World {
                 .map(|k| self.current(k).clone())
                 .collect(),
             last_inv_h: self.last_inv_h,
+            sensors: self.sensors.clone(),
+            unpushed_hits: self.event_log.unpushed.clone(),
         }
     }
 
@@ -265,6 +275,16 @@ impl World {
             }
         }
         world.last_inv_h = snapshot.last_inv_h;
+        // Every live sensor shape, and no other, is tracked.
+        world.sensors = snapshot.sensors;
+        world.event_log.unpushed = snapshot.unpushed_hits;
+        let is_sensor = |s: usize| world.shape_slots.is_alive(s) && world.shape_records[s].sensor;
+        world.sensors.retain(|&s, _| is_sensor(s as usize));
+        for s in 0..world.shapes.len() {
+            if is_sensor(s) {
+                world.sensors.entry(s as u32).or_default();
+            }
+        }
         world.joint_slots = snapshot.joint_slots;
         world.joints = snapshot.joints;
         world.proxies_changed = true;

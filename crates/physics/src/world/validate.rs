@@ -19,6 +19,13 @@ impl World {
         self.shape_slots
             .check()
             .map_err(|e| format!("shape slots: {e}"))?;
+        // The sensors tracked are the live sensor shapes.
+        let sensor_shapes = (0..self.shapes.len())
+            .filter(|&s| self.shape_slots.is_alive(s) && self.shape_records[s].sensor)
+            .map(|s| s as u32);
+        if !sensor_shapes.eq(self.sensors.keys().copied()) {
+            return Err("the tracked sensors are not the live sensor shapes".into());
+        }
         let n = self.sims.len();
         let mut owner = vec![NONE; self.shapes.len()];
         for i in 0..n {
