@@ -2,7 +2,8 @@
 //! the thread count changed mid-run, ends in bit-identical states.
 
 use tumble_physics::{
-    BodyDef, BodyKind, JointDef, SceneDef, ShapeDef, StepSettings, WideThresholds, World,
+    BodyDef, BodyKind, Event, JointDef, PartDef, SceneDef, ShapeDef, StepSettings, WideThresholds,
+    World,
 };
 use tumble_tests::{all_finite, world};
 
@@ -33,18 +34,43 @@ struct Run {
     contacts: usize,
     /// Touching contacts (manifold points > 0) that involve a circle.
     circle_contacts: usize,
+    /// Every event of the run, with the world's step count when it was read.
+    events: Vec<(u64, Event)>,
 }
 
 impl Run {
-    /// What a run ends in: `w`'s state bits, hash and contact count.
-    fn of(label: String, w: &World, circle_contacts: usize) -> Run {
+    /// What a run ends in: `w`'s state bits, hash and contact count, and the events `log`
+    /// read.
+    fn of(label: String, w: &World, circle_contacts: usize, log: EventLog) -> Run {
         Run {
             label,
             state: snapshot(w),
             hash: w.state_hash(),
             contacts: w.contact_count(),
             circle_contacts,
+            events: log.events,
         }
+    }
+}
+
+/// The events of a run, read after each step and after each change between steps (the
+/// world's list holds the last step's events and those made since).
+#[derive(Default)]
+struct EventLog {
+    events: Vec<(u64, Event)>,
+    /// How many of the world's current list are read.
+    read: usize,
+}
+
+impl EventLog {
+    /// Reads what the world made since the last read; `stepped`: a step ran since.
+    fn read(&mut self, w: &World, stepped: bool) {
+        if stepped {
+            self.read = 0;
+        }
+        let new = &w.events()[self.read..];
+        self.events.extend(new.iter().map(|e| (w.step_count(), *e)));
+        self.read = w.events().len();
     }
 }
 
@@ -93,10 +119,12 @@ fn run_with(
     tweak(w.settings_mut());
     let cores = tumble_physics::default_thread_count();
     let (mut inline_steps, mut parallel_solves) = (0, 0);
+    let mut log = EventLog::default();
     for step in 0..STEPS {
         let n = threads(step);
         w.set_thread_count(n);
         w.step(scene.dt, scene.substeps);
+        log.read(&w, true);
         // The solver must really run on several workers whenever it may: in a step that left
         // the caller's thread, with two workers' worth of touching contacts, on as many
         // workers as there are threads and cores.
@@ -138,7 +166,7 @@ fn run_with(
         w.state_hash(),
         t0.elapsed().as_secs_f64() * 1e3
     );
-    Run::of(label.to_string(), &w, circle_contacts)
+    Run::of(label.to_string(), &w, circle_contacts, log)
 }
 
 const FIELDS: [&str; 7] = ["x", "y", "cos", "sin", "vx", "vy", "w"];
@@ -168,6 +196,21 @@ fn assert_same(reference: &Run, other: &Run) {
         "contact count {} vs {}",
         reference.label, other.label
     );
+    assert_eq!(
+        reference.events.len(),
+        other.events.len(),
+        "event count {} vs {}",
+        reference.label,
+        other.label
+    );
+    for (a, b) in reference.events.iter().zip(&other.events) {
+        assert!(
+            a == b,
+            "events differ: {a:?} ({}) vs {b:?} ({})",
+            reference.label,
+            other.label
+        );
+    }
 }
 
 #[test]
@@ -258,8 +301,10 @@ fn run_workers_with(scene: &SceneDef, steps: u32, workers: usize, strict: bool) 
     w.set_workers_beyond_cores(true);
     w.set_thread_count(workers);
     let mut overflow = 0;
+    let mut log = EventLog::default();
     for step in 0..steps {
         w.step(scene.dt, scene.substeps);
+        log.read(&w, true);
         let p = w.profile();
         assert!(
             !strict || p.solver_workers == workers,
@@ -271,7 +316,7 @@ fn run_workers_with(scene: &SceneDef, steps: u32, workers: usize, strict: bool) 
     }
     assert!(all_finite(&w), "{}: non-finite state", scene.name);
     (
-        Run::of(format!("{} on {workers} workers", scene.name), &w, 0),
+        Run::of(format!("{} on {workers} workers", scene.name), &w, 0, log),
         overflow,
     )
 }
@@ -296,13 +341,29 @@ fn pyramid_with_overflow_and_kinematic() -> SceneDef {
         })
         .at(55.0 + 1.5 * 14.5, 1.25),
     );
+    // The pusher carries a sensor disc of radius 3 into the pyramid (its visitors change
+    // as it goes), and a static sensor box holds the pyramid's left third.
     scene.push(
-        BodyDef::new(unit)
-            .kind(BodyKind::Kinematic)
-            .at(-51.0, 0.5)
-            .velocity(1.0, 0.0),
+        BodyDef::compound(vec![
+            PartDef::new(unit),
+            PartDef::new(ShapeDef::Circle { radius: 3.0 }).sensor(true),
+        ])
+        .kind(BodyKind::Kinematic)
+        .at(-51.0, 0.5)
+        .velocity(1.0, 0.0),
     );
-    scene.name = "large_pyramid + plank + kinematic".into();
+    scene.push(
+        BodyDef::compound(vec![
+            PartDef::new(ShapeDef::Box {
+                half_extents: [15.0, 20.0],
+                radius: 0.0,
+            })
+            .sensor(true),
+        ])
+        .kind(BodyKind::Static)
+        .at(-35.0, 20.0),
+    );
+    scene.name = "large_pyramid + plank + kinematic + sensors".into();
     scene
 }
 
@@ -323,6 +384,17 @@ fn benchmark_scenes_are_bit_identical_on_1_to_4_real_workers() {
         let (one, overflow) = run_workers(scene, 60, 1);
         if scene.name != "smash" {
             assert!(overflow >= 10, "{}: overflow {overflow}", scene.name);
+            // Events of every kind the scene makes: the pyramid settling, the pusher's disc
+            // entering it, the static sensor's visitors.
+            let has = |f: fn(&Event) -> bool| one.events.iter().any(|(_, e)| f(e));
+            assert!(has(|e| matches!(e, Event::ContactBegin { .. })));
+            assert!(has(|e| matches!(e, Event::SensorBegin { .. })));
+            assert!(has(|e| matches!(e, Event::SensorEnd { .. })));
+        } else {
+            // The ram hits the grid at 15 m/s and knocks boxes apart.
+            let has = |f: fn(&Event) -> bool| one.events.iter().any(|(_, e)| f(e));
+            assert!(has(|e| matches!(e, Event::Hit { .. })), "smash: no hit");
+            assert!(has(|e| matches!(e, Event::ContactEnd { .. })));
         }
         for workers in 2..=4 {
             let (other, _) = run_workers(scene, 60, workers);
@@ -535,16 +607,19 @@ fn the_thread_count_changes_mid_run_on_a_parallel_scene() {
     let (one, _) = run_workers(&scene, 40, 1);
     let mut w = world(&scene);
     w.set_workers_beyond_cores(true);
+    let mut log = EventLog::default();
     for step in 0..40 {
         let workers = (step / 5 % 4) as usize + 1;
         w.set_thread_count(workers);
         w.step(scene.dt, scene.substeps);
+        log.read(&w, true);
         assert_eq!(w.profile().solver_workers, workers, "step {step}");
     }
     let switching = Run::of(
         "large_pyramid, 1-4 workers changing every 5 steps".into(),
         &w,
         0,
+        log,
     );
     assert_same(&one, &switching);
 }
@@ -553,9 +628,11 @@ fn the_thread_count_changes_mid_run_on_a_parallel_scene() {
 fn rain_making_and_destroying_ragdolls_is_bit_identical_on_1_to_4_real_workers() {
     // Box2D's rain on a shorter schedule, through its own script (stateless: a step number
     // names its wave): columns 0, 1 and 2 made at steps 0, 8 and 16 (825 bodies, 750 sprung,
-    // limited, motor-braked hinges), the ragdolls landing from 40 m near step 170; at step
-    // 180, the wave that replaces column 0 (rain's step 320) destroys its five groups, piled
-    // on the ground, and makes them again at the top; 200 steps, sleeping on.
+    // limited, motor-braked hinges), the ragdolls landing from 40 m from step 200 on (column
+    // 0's touch the ground from about step 205); at step 215, the wave that replaces column
+    // 0 (rain's step 320) destroys its five groups, lying on the ground, and makes them again
+    // at the top; 230 steps, sleeping on. The events (contacts beginning and ending, hits,
+    // the destroyed groups' contacts ended between steps) are the same on every count.
     use tumble_scene::builtin::rain;
     let scene = tumble_scene::builtin::build("rain").expect("rain");
     let runs: Vec<Run> = (1..=4)
@@ -563,16 +640,30 @@ fn rain_making_and_destroying_ragdolls_is_bit_identical_on_1_to_4_real_workers()
             let mut w = world(&scene);
             w.set_workers_beyond_cores(true);
             w.set_thread_count(workers);
-            for step in 0..200u64 {
+            let mut log = EventLog::default();
+            let (mut touching_destroyed, mut ended_by_destroy) = (0, 0);
+            for step in 0..230u64 {
                 let wave = match step {
                     0 | 8 | 16 => Some(step),
-                    180 => Some(rain::DELAY * rain::COLUMNS as u64),
+                    215 => Some(rain::DELAY * rain::COLUMNS as u64),
                     _ => None,
                 };
                 if let Some(wave) = wave {
+                    let before = log.events.len();
+                    if step == 215 {
+                        touching_destroyed = touching_of_column_0(&w);
+                    }
                     rain::step(wave, &mut w);
+                    log.read(&w, false);
+                    if step == 215 {
+                        ended_by_destroy = log.events[before..]
+                            .iter()
+                            .filter(|(_, e)| matches!(e, Event::ContactEnd { .. }))
+                            .count();
+                    }
                 }
                 w.step(scene.dt, scene.substeps);
+                log.read(&w, true);
             }
             assert!(
                 all_finite(&w),
@@ -580,10 +671,29 @@ fn rain_making_and_destroying_ragdolls_is_bit_identical_on_1_to_4_real_workers()
             );
             assert_eq!(w.live_body_count(), 1 + 3 * 5 * 55);
             assert!(w.contact_count() > 100, "the ragdolls have landed");
-            Run::of(format!("rain on {workers} workers"), &w, 0)
+            // Destroying column 0's landed groups ended their touching contacts at once, as
+            // many as touched just before.
+            assert_eq!(ended_by_destroy, touching_destroyed);
+            assert!(ended_by_destroy > 0, "column 0 had not landed");
+            Run::of(format!("rain on {workers} workers"), &w, 0, log)
         })
         .collect();
     for other in &runs[1..] {
         assert_same(&runs[0], other);
     }
+}
+
+/// Touching contacts of rain's column 0 (its bodies' user data names the column).
+fn touching_of_column_0(w: &World) -> usize {
+    use tumble_scene::builtin::rain;
+    let column_0: std::collections::HashSet<usize> = w
+        .body_ids()
+        .filter(|&id| (0..rain::ROWS).any(|row| w.user_data(id) == Ok(rain::tag(row, 0))))
+        .map(|id| id.index as usize)
+        .collect();
+    w.contacts()
+        .filter(|c| {
+            c.manifold.count > 0 && (column_0.contains(&c.body_a) || column_0.contains(&c.body_b))
+        })
+        .count()
 }

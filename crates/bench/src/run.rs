@@ -8,7 +8,7 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use serde::Serialize;
 use serde::ser::SerializeMap;
-use tumble_physics::{Limits, World, default_thread_count};
+use tumble_physics::{Event, Limits, World, default_thread_count};
 use tumble_scene::{DEFAULT_MAX_FILE_BYTES, LoadLimits};
 
 /// Most worker threads a run may ask for; far more than any machine here has cores.
@@ -42,6 +42,9 @@ pub struct RunArgs {
     /// Write the JSON to FILE instead of stdout.
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
+    /// Write the run's events to FILE, one JSON object a line (CONTRACT.md section 7).
+    #[arg(long, value_name = "FILE")]
+    pub events: Option<PathBuf>,
     /// Most bodies a scene may hold.
     #[arg(long, value_name = "N", default_value_t = Limits::default().max_bodies)]
     pub max_bodies: usize,
@@ -151,12 +154,26 @@ pub fn run(args: &RunArgs) -> Result<()> {
     // A built-in that moves things between steps (junkyard's pusher) does so here too.
     let is_file = std::path::Path::new(&args.scene).exists();
     let script = tumble_scene::builtin::script(&args.scene).filter(|_| !generated && !is_file);
+    let mut events = match &args.events {
+        Some(path) => Some(EventFile::create(path)?),
+        None => None,
+    };
     for _ in 0..steps {
         bar.inc(1);
+        // Steps count from 1 in the event file; a script's changes before step k (a body
+        // destroyed while touching) are reported with it, before the step's own.
+        let k = world.step_count() + 1;
         if let Some(script) = script {
             script(world.step_count(), &mut world);
+            if let Some(file) = &mut events {
+                file.write_new(&world, k)?;
+            }
         }
         world.step(scene.dt, scene.substeps);
+        if let Some(file) = &mut events {
+            file.written = 0;
+            file.write_new(&world, k)?;
+        }
         let profile = world.profile();
         step_ms += profile.step_ms;
         let stages = profile.stages();
@@ -168,6 +185,9 @@ pub fn run(args: &RunArgs) -> Result<()> {
         }
     }
     bar.finish_and_clear();
+    if let Some(file) = events {
+        file.finish()?;
+    }
     let mean = |total: f64| {
         if steps == 0 {
             0.0
@@ -264,4 +284,88 @@ fn write_json(w: impl Write, report: &Report) -> std::io::Result<()> {
     writeln!(w, "  \"islands\": {:?}", report.islands)?;
     writeln!(w, "}}")?;
     w.flush()
+}
+
+/// The `--events` file: each event as one JSON line (CONTRACT.md section 7), written as the
+/// run makes them.
+struct EventFile {
+    path: PathBuf,
+    out: BufWriter<File>,
+    /// How many of `World::events` are written (it holds the last step's and those since).
+    written: usize,
+}
+
+/// One line of the event file; field order is the contract's.
+#[derive(Serialize)]
+struct EventLine {
+    step: u64,
+    #[serde(rename = "type")]
+    kind: &'static str,
+    bodies: [u32; 2],
+    shapes: [u32; 2],
+    #[serde(skip_serializing_if = "Option::is_none")]
+    point: Option<[f32; 2]>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    normal: Option<[f32; 2]>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    approach_speed: Option<f32>,
+}
+
+impl EventLine {
+    fn of(step: u64, event: &Event) -> EventLine {
+        let [a, b] = event.shapes();
+        let (point, normal, approach_speed) = match *event {
+            Event::Hit {
+                point,
+                normal,
+                approach_speed,
+                ..
+            } => (
+                Some(point.to_array()),
+                Some(normal.to_array()),
+                Some(approach_speed),
+            ),
+            _ => (None, None, None),
+        };
+        EventLine {
+            step,
+            kind: event.name(),
+            bodies: [a.body.index, b.body.index],
+            shapes: [a.part, b.part],
+            point,
+            normal,
+            approach_speed,
+        }
+    }
+}
+
+impl EventFile {
+    fn create(path: &PathBuf) -> Result<EventFile> {
+        let file = File::create(path)
+            .with_context(|| format!("cannot create the events file {}", path.display()))?;
+        Ok(EventFile {
+            path: path.clone(),
+            out: BufWriter::new(file),
+            written: 0,
+        })
+    }
+
+    /// Writes the world's events not yet written, as step `step`'s.
+    fn write_new(&mut self, world: &World, step: u64) -> Result<()> {
+        let events = world.events();
+        for event in &events[self.written.min(events.len())..] {
+            serde_json::to_writer(&mut self.out, &EventLine::of(step, event))
+                .map_err(std::io::Error::from)
+                .and_then(|()| self.out.write_all(b"\n"))
+                .with_context(|| format!("cannot write the events file {}", self.path.display()))?;
+        }
+        self.written = events.len();
+        Ok(())
+    }
+
+    fn finish(mut self) -> Result<()> {
+        self.out
+            .flush()
+            .with_context(|| format!("cannot write the events file {}", self.path.display()))
+    }
 }
