@@ -3,5 +3,7 @@
 
 pub mod broad_phase;
 pub mod manifold;
+pub mod ray;
 
 pub use manifold::{Manifold, ManifoldPoint, collide};
+pub use ray::{Ray, RayHitLocal, ray_cast};

@@ -16,12 +16,11 @@ use std::collections::BTreeMap;
 
 use glam::Vec2;
 
+use super::query::shapes_overlap;
 use super::{NONE, World, pair_key};
-use crate::collision::collide;
 use crate::id::{BodyId, ShapeId};
 use crate::math::{Rot, Transform};
 use crate::scene::BodyKind;
-use crate::shape::Shape;
 
 /// A shape as an event names it: its id, its body's id, and its place among the body's parts
 /// (a scene's `shapes` index; 0 for a body with `shape`). Kept whole in the event, so an event
@@ -331,7 +330,8 @@ impl World {
                 {
                     return;
                 }
-                if self.shapes_overlap(s, v) {
+                let (a, b) = (&self.shapes[s as usize], &self.shapes[v as usize]);
+                if shapes_overlap(a, self.shape_pose(s), b, self.shape_pose(v)) {
                     found.push(self.shape_ref(v));
                 }
             });
@@ -350,21 +350,6 @@ impl World {
         }
         self.sensors = sensors;
         self.event_log.found = found;
-    }
-
-    /// Whether shapes `s` and `v` overlap (not merely come within a speculative margin).
-    fn shapes_overlap(&self, s: u32, v: u32) -> bool {
-        let (mut a, mut b) = (s, v);
-        // The manifold routines take the shape of higher rank first (see `create_contact`).
-        if self.shapes[a as usize].rank() < self.shapes[b as usize].rank() {
-            std::mem::swap(&mut a, &mut b);
-        }
-        let (sa, sb) = (&self.shapes[a as usize], &self.shapes[b as usize]);
-        if !Shape::pair_collides(sa, sb) {
-            return false;
-        }
-        let m = collide(sa, self.shape_pose(a), sb, self.shape_pose(b), 0.0);
-        m.points().iter().any(|p| p.separation < 0.0)
     }
 }
 

@@ -12,6 +12,7 @@
 mod bodies;
 mod events;
 mod joints;
+mod query;
 mod read;
 mod settings;
 mod sleep;
@@ -43,6 +44,7 @@ use crate::solver::{
 };
 
 pub use events::{BodyMove, Event, ShapeRef};
+pub use query::{QueryFilter, RayHit};
 pub use settings::{StepSettings, WideThresholds};
 pub use snapshot::WorldSnapshot;
 pub use threads::{SpawnWorker, default_thread_count, set_thread_source};

@@ -3,7 +3,7 @@
 
 use glam::Vec2;
 
-use super::{BodyView, ContactView, ShapeView, World, WorldError};
+use super::{BodyView, ContactView, QueryFilter, ShapeRef, ShapeView, World, WorldError};
 use crate::collision::broad_phase::BroadPhase;
 use crate::id::{BodyId, ShapeId};
 use crate::island::NO_ISLAND;
@@ -252,17 +252,17 @@ impl World {
     }
 
     /// The slot of a body one of whose shapes contains the world point, if any (the last in
-    /// shape order, which a viewer draws on top).
+    /// shape order, which a viewer draws on top): a point query through the broad phase
+    /// ([`World::overlap_point`]) that sees every shape.
     pub fn body_at(&self, point: Vec2) -> Option<usize> {
-        (0..self.shapes.len())
-            .rev()
-            .filter(|&s| self.shape_slots.is_alive(s))
-            .find(|&s| {
-                let v = self.shape_view(s);
-                let local = v.transform.apply_inv(point);
-                v.shape.contains(local)
-            })
-            .map(|s| self.shape_records[s].body as usize)
+        let mut top: Option<ShapeRef> = None;
+        self.overlap_point(point, &QueryFilter::ALL, |r| {
+            if top.is_none_or(|t| r.shape.index > t.shape.index) {
+                top = Some(r);
+            }
+            true
+        });
+        top.map(|r| r.body.index as usize)
     }
 
     /// `(contact index, graph colour)` for every touching contact of the last step, where the

@@ -1,0 +1,572 @@
+//! Queries between steps: ray casts, and the shapes overlapping a box, a point or a shape, all
+//! through the broad phase's tree (Box2D v3's `b2World_CastRay`, `b2World_OverlapAABB`,
+//! `b2World_OverlapShape`; Rapier's `QueryPipeline`).
+//!
+//! The tree is refitted at the start of each step, so between steps it may lag the fat boxes
+//! of the proxies that moved since: those (the `moved` list, usually a few) are tested one by
+//! one, and skipped in the tree. After shapes were added or removed, until the next step
+//! rebuilds the tree, a query tests every shape.
+
+use glam::Vec2;
+
+use super::World;
+use super::events::ShapeRef;
+use crate::collision::broad_phase::ray_may_cross;
+use crate::collision::{Ray, collide, ray_cast};
+use crate::math::Transform;
+use crate::scene::Filter;
+use crate::shape::{Aabb, Shape};
+
+/// Which shapes a query sees (Box2D's `b2QueryFilter`): a shape is seen when its category is
+/// in the query's `mask` and the query's `category` is in the shape's mask; sensors only
+/// when `sensors` is set.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct QueryFilter {
+    /// What the query is, as a shape's filter sees it.
+    pub category: u64,
+    /// The categories of shapes it sees.
+    pub mask: u64,
+    /// Whether it sees sensor shapes.
+    pub sensors: bool,
+}
+
+impl Default for QueryFilter {
+    /// Category 1 (a shape's default), every mask bit, no sensors.
+    fn default() -> Self {
+        QueryFilter {
+            category: 1,
+            mask: u64::MAX,
+            sensors: false,
+        }
+    }
+}
+
+impl QueryFilter {
+    /// Sees every shape, sensors too, even one whose own filter touches nothing (what a
+    /// viewer's picking wants).
+    pub const ALL: QueryFilter = QueryFilter {
+        category: u64::MAX,
+        mask: u64::MAX,
+        sensors: true,
+    };
+
+    fn sees(&self, filter: &Filter, sensor: bool) -> bool {
+        if *self == QueryFilter::ALL {
+            return true;
+        }
+        (self.sensors || !sensor)
+            && (filter.category & self.mask) != 0
+            && (self.category & filter.mask) != 0
+    }
+}
+
+/// Where a ray met a shape.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RayHit {
+    /// The shape.
+    pub shape: ShapeRef,
+    /// The point, in the world.
+    pub point: Vec2,
+    /// The shape's outward normal there, in the world.
+    pub normal: Vec2,
+    /// How far along the ray: the point is `origin + fraction · translation`.
+    pub fraction: f32,
+}
+
+/// Whether two shapes at these poses overlap (not merely come within a speculative margin):
+/// their manifold with no margin has a point of negative separation. A pair with no manifold
+/// routine (two shapes without area) never overlaps.
+pub(super) fn shapes_overlap(a: &Shape, pose_a: Transform, b: &Shape, pose_b: Transform) -> bool {
+    // The manifold routines take the shape of higher rank first (see `create_contact`).
+    let ((a, pa), (b, pb)) = if a.rank() < b.rank() {
+        ((b, pose_b), (a, pose_a))
+    } else {
+        ((a, pose_a), (b, pose_b))
+    };
+    Shape::pair_collides(a, b)
+        && collide(a, pa, b, pb, 0.0)
+            .points()
+            .iter()
+            .any(|p| p.separation < 0.0)
+}
+
+impl World {
+    /// Whether the tree holds every live proxy (no shape added or removed since it was
+    /// built).
+    fn tree_holds_every_proxy(&self) -> bool {
+        !self.proxies_changed
+    }
+
+    /// Whether shape slot `s` is live and `filter` sees it.
+    fn seen(&self, s: u32, filter: &QueryFilter) -> bool {
+        let r = &self.shape_records[s as usize];
+        self.shape_slots.is_alive(s as usize) && filter.sees(&r.filter, r.sensor)
+    }
+
+    /// Calls `f(shape slot)` for every shape `filter` sees whose fat box overlaps `aabb`,
+    /// until it returns false.
+    fn shapes_in_box(&self, aabb: &Aabb, filter: &QueryFilter, mut f: impl FnMut(u32) -> bool) {
+        let mut going = true;
+        if self.tree_holds_every_proxy() {
+            self.broad_phase.query(aabb, &self.fat_aabbs, |s| {
+                if going && !self.moved_flags[s as usize] && self.seen(s, filter) {
+                    going = f(s);
+                }
+            });
+            for &s in &self.moved {
+                if !going {
+                    return;
+                }
+                if self.fat_aabbs[s as usize].overlaps(aabb) && self.seen(s, filter) {
+                    going = f(s);
+                }
+            }
+        } else {
+            for s in 0..self.shapes.len() as u32 {
+                if !going {
+                    return;
+                }
+                if self.seen(s, filter) && self.fat_aabbs[s as usize].overlaps(aabb) {
+                    going = f(s);
+                }
+            }
+        }
+    }
+
+    /// Casts the ray `origin + t · translation`, t in [0, 1], against every shape `filter`
+    /// sees, calling `f` with each hit the ray reaches (Box2D's `b2World_CastRay`): `f`
+    /// returns the fraction to clip the ray to (its hit's `fraction` to find the nearest), 1
+    /// to go on unclipped, 0 to stop, or a negative number to ignore this shape. Hits come in
+    /// the tree's order, not the ray's; a ray that starts inside a shape with area does not
+    /// hit it.
+    pub fn cast_ray(
+        &self,
+        origin: Vec2,
+        translation: Vec2,
+        filter: &QueryFilter,
+        mut f: impl FnMut(&RayHit) -> f32,
+    ) {
+        if !(origin.is_finite() && translation.is_finite()) {
+            return;
+        }
+        let mut visit = |s: u32, max_fraction: f32| -> f32 {
+            if !self.seen(s, filter) {
+                return max_fraction;
+            }
+            let pose = self.shape_pose(s);
+            let local = Ray {
+                origin: pose.apply_inv(origin),
+                translation: pose.q.apply_inv(translation),
+                max_fraction,
+            };
+            let Some(hit) = ray_cast(&self.shapes[s as usize], &local) else {
+                return max_fraction;
+            };
+            let value = f(&RayHit {
+                shape: self.shape_ref(s),
+                point: pose.apply(hit.point),
+                normal: pose.q.apply(hit.normal),
+                fraction: hit.fraction,
+            });
+            if value < 0.0 {
+                max_fraction
+            } else {
+                value.min(max_fraction)
+            }
+        };
+        let mut max_fraction = 1.0f32;
+        if self.tree_holds_every_proxy() {
+            let moved = &self.moved_flags;
+            self.broad_phase.ray_cast(
+                &self.fat_aabbs,
+                origin,
+                translation,
+                max_fraction,
+                |s, max| {
+                    if moved[s as usize] {
+                        return max;
+                    }
+                    max_fraction = visit(s, max);
+                    max_fraction
+                },
+            );
+            for &s in &self.moved {
+                if max_fraction <= 0.0 {
+                    return;
+                }
+                if ray_may_cross(
+                    &self.fat_aabbs[s as usize],
+                    origin,
+                    translation,
+                    max_fraction,
+                ) {
+                    max_fraction = visit(s, max_fraction);
+                }
+            }
+        } else {
+            for s in 0..self.shapes.len() as u32 {
+                if max_fraction <= 0.0 {
+                    return;
+                }
+                if ray_may_cross(
+                    &self.fat_aabbs[s as usize],
+                    origin,
+                    translation,
+                    max_fraction,
+                ) {
+                    max_fraction = visit(s, max_fraction);
+                }
+            }
+        }
+    }
+
+    /// The nearest hit of the ray `origin + t · translation`, t in [0, 1], among the shapes
+    /// `filter` sees (Box2D's `b2World_CastRayClosest`).
+    pub fn cast_ray_closest(
+        &self,
+        origin: Vec2,
+        translation: Vec2,
+        filter: &QueryFilter,
+    ) -> Option<RayHit> {
+        let mut best: Option<RayHit> = None;
+        self.cast_ray(origin, translation, filter, |hit| {
+            // Of two hits at the same fraction, the lower shape slot, whatever the tree's order.
+            if best.is_none_or(|b| {
+                (hit.fraction, hit.shape.shape.index) < (b.fraction, b.shape.shape.index)
+            }) {
+                best = Some(*hit);
+            }
+            hit.fraction
+        });
+        best
+    }
+
+    /// Every hit of the ray `origin + t · translation`, t in [0, 1], among the shapes `filter`
+    /// sees, nearest first (ties by shape slot).
+    pub fn cast_ray_all(
+        &self,
+        origin: Vec2,
+        translation: Vec2,
+        filter: &QueryFilter,
+    ) -> Vec<RayHit> {
+        let mut hits = Vec::new();
+        self.cast_ray(origin, translation, filter, |hit| {
+            hits.push(*hit);
+            1.0
+        });
+        hits.sort_by(|a, b| {
+            (a.fraction, a.shape.shape.index)
+                .partial_cmp(&(b.fraction, b.shape.shape.index))
+                .expect("fractions are finite")
+        });
+        hits
+    }
+
+    /// Calls `f` with every shape `filter` sees whose bounding box overlaps `aabb`, until it
+    /// returns false (Box2D's `b2World_OverlapAABB`, tested against each shape's tight box
+    /// rather than its fat one).
+    pub fn overlap_aabb(
+        &self,
+        aabb: &Aabb,
+        filter: &QueryFilter,
+        mut f: impl FnMut(ShapeRef) -> bool,
+    ) {
+        self.shapes_in_box(aabb, filter, |s| {
+            let tight = self.shapes[s as usize].aabb(self.shape_pose(s));
+            !tight.overlaps(aabb) || f(self.shape_ref(s))
+        });
+    }
+
+    /// Calls `f` with every shape `filter` sees that contains `point`, until it returns false
+    /// (segments and chains contain nothing).
+    pub fn overlap_point(
+        &self,
+        point: Vec2,
+        filter: &QueryFilter,
+        mut f: impl FnMut(ShapeRef) -> bool,
+    ) {
+        let at = Aabb {
+            min: point,
+            max: point,
+        };
+        self.shapes_in_box(&at, filter, |s| {
+            let local = self.shape_pose(s).apply_inv(point);
+            !self.shapes[s as usize].contains(local) || f(self.shape_ref(s))
+        });
+    }
+
+    /// Calls `f` with every shape `filter` sees that overlaps `shape` placed at `pose`, until
+    /// it returns false (Box2D's `b2World_OverlapShape`). Shapes without area (segments,
+    /// chain segments) overlap only shapes with area.
+    pub fn overlap_shape(
+        &self,
+        shape: &Shape,
+        pose: Transform,
+        filter: &QueryFilter,
+        mut f: impl FnMut(ShapeRef) -> bool,
+    ) {
+        let aabb = shape.aabb(pose);
+        self.shapes_in_box(&aabb, filter, |s| {
+            !shapes_overlap(shape, pose, &self.shapes[s as usize], self.shape_pose(s))
+                || f(self.shape_ref(s))
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::id::BodyId;
+    use crate::scene::{BodyDef, BodyKind, PartDef, ShapeDef};
+    use crate::world::StepSettings;
+
+    fn unit_box() -> ShapeDef {
+        ShapeDef::Box {
+            half_extents: [0.5, 0.5],
+            radius: 0.0,
+        }
+    }
+
+    /// Five static unit boxes centred at x = 0, 2, ..., 8 on y = 0; the third in category 2.
+    fn row() -> (World, Vec<BodyId>) {
+        let mut w = World::new(StepSettings::default());
+        let ids = (0..5)
+            .map(|i| {
+                let mut def = BodyDef::new(unit_box())
+                    .kind(BodyKind::Static)
+                    .at(2.0 * i as f32, 0.0);
+                if i == 2 {
+                    def = def.filter(Filter {
+                        category: 2,
+                        ..Filter::default()
+                    });
+                }
+                w.create_body(&def).unwrap()
+            })
+            .collect();
+        (w, ids)
+    }
+
+    #[test]
+    fn a_ray_along_a_row_meets_its_boxes_in_order_and_obeys_its_filter() {
+        let (mut w, ids) = row();
+        // Run before the tree exists, and after a step has built it.
+        for stepped in [false, true] {
+            if stepped {
+                w.step(1.0 / 60.0, 4);
+            }
+            let (o, d) = (Vec2::new(-2.0, 0.25), Vec2::new(12.0, 0.0));
+            let all = w.cast_ray_all(o, d, &QueryFilter::default());
+            let bodies: Vec<BodyId> = all.iter().map(|h| h.shape.body).collect();
+            assert_eq!(bodies, ids, "stepped {stepped}");
+            // The first box's left face at x = -0.5: 1.5 of 12.
+            let first = w.cast_ray_closest(o, d, &QueryFilter::default()).unwrap();
+            assert!((first.fraction - 1.5 / 12.0).abs() < 1e-6, "{first:?}");
+            assert!((first.point - Vec2::new(-0.5, 0.25)).length() < 1e-5);
+            assert_eq!(first.normal, Vec2::new(-1.0, 0.0));
+            // A query that does not see category 2 passes the third box.
+            let not_two = QueryFilter {
+                mask: !2,
+                ..QueryFilter::default()
+            };
+            let seen: Vec<BodyId> = w
+                .cast_ray_all(o, d, &not_two)
+                .iter()
+                .map(|h| h.shape.body)
+                .collect();
+            assert_eq!(seen, [ids[0], ids[1], ids[3], ids[4]]);
+            // Ignoring every hit (a negative return) and stopping at the first (0).
+            let mut calls = 0;
+            w.cast_ray(o, d, &QueryFilter::default(), |_| {
+                calls += 1;
+                -1.0
+            });
+            assert_eq!(calls, 5);
+            let mut calls = 0;
+            w.cast_ray(o, d, &QueryFilter::default(), |_| {
+                calls += 1;
+                0.0
+            });
+            assert_eq!(calls, 1);
+        }
+    }
+
+    /// A scatter of every shape with area on dynamic bodies, some with a sensor part, over a
+    /// static floor segment.
+    fn scatter() -> World {
+        let mut w = World::new(StepSettings::default());
+        w.create_body(
+            &BodyDef::new(ShapeDef::Segment {
+                point1: [-30.0, 0.0],
+                point2: [30.0, 0.0],
+            })
+            .kind(BodyKind::Static),
+        )
+        .unwrap();
+        let mut seed = 7u32;
+        let mut next = move || {
+            seed = seed.wrapping_mul(1664525).wrapping_add(1013904223);
+            (seed >> 8) as f32 / (1u32 << 24) as f32
+        };
+        for i in 0..120 {
+            let shape = match i % 4 {
+                0 => ShapeDef::Circle {
+                    radius: 0.2 + next(),
+                },
+                1 => unit_box(),
+                2 => ShapeDef::Capsule {
+                    center1: [-0.5, 0.0],
+                    center2: [0.5, 0.0],
+                    radius: 0.3,
+                },
+                _ => ShapeDef::Box {
+                    half_extents: [0.6, 0.3],
+                    radius: 0.2,
+                },
+            };
+            let mut parts = vec![PartDef::new(shape)];
+            if i % 10 == 0 {
+                parts.push(PartDef::new(ShapeDef::Circle { radius: 1.5 }).sensor(true));
+            }
+            let def = BodyDef::compound(parts)
+                .at(-25.0 + 50.0 * next(), 1.0 + 20.0 * next())
+                .angle(6.0 * next());
+            w.create_body(&def).unwrap();
+        }
+        w
+    }
+
+    /// Every hit, by brute force: each live shape the filter sees, cast against directly.
+    fn brute_hits(w: &World, o: Vec2, d: Vec2, filter: &QueryFilter) -> Vec<(u32, u32)> {
+        let mut hits: Vec<(u32, u32)> = w
+            .shapes()
+            .filter(|v| filter.sensors || !v.sensor)
+            .filter_map(|v| {
+                let local = Ray {
+                    origin: v.transform.apply_inv(o),
+                    translation: v.transform.q.apply_inv(d),
+                    max_fraction: 1.0,
+                };
+                ray_cast(v.shape, &local).map(|h| (h.fraction.to_bits(), v.id.index))
+            })
+            .collect();
+        hits.sort();
+        hits
+    }
+
+    #[test]
+    fn ray_casts_and_overlaps_find_what_a_scan_of_every_shape_finds() {
+        let mut w = scatter();
+        // Fresh (no tree), mid-fall (a stale tree and a moved list), after a shape is added
+        // between steps (every shape tested until the next step).
+        for phase in 0..3 {
+            match phase {
+                1 => (0..40).for_each(|_| w.step(1.0 / 60.0, 4)),
+                2 => {
+                    w.create_body(&BodyDef::new(unit_box()).at(0.0, 5.0))
+                        .unwrap();
+                }
+                _ => {}
+            }
+            for k in 0..40 {
+                let a = 0.1 + k as f32 * 0.15;
+                let o = Vec2::new(-28.0 + 1.4 * k as f32, 22.0);
+                let d = Vec2::new(a.cos(), -a.sin().abs()) * 60.0;
+                for filter in [QueryFilter::default(), QueryFilter::ALL] {
+                    let found: Vec<(u32, u32)> = w
+                        .cast_ray_all(o, d, &filter)
+                        .iter()
+                        .map(|h| (h.fraction.to_bits(), h.shape.shape.index))
+                        .collect();
+                    let mut sorted = found.clone();
+                    sorted.sort();
+                    assert_eq!(found, sorted, "nearest first");
+                    assert_eq!(
+                        found,
+                        brute_hits(&w, o, d, &filter),
+                        "phase {phase} ray {k}"
+                    );
+                    let closest = w.cast_ray_closest(o, d, &filter);
+                    assert_eq!(
+                        closest.map(|h| (h.fraction.to_bits(), h.shape.shape.index)),
+                        found.first().copied()
+                    );
+                }
+                // Point, box and shape overlaps against the same scan.
+                let p = o + d * 0.3;
+                let mut at: Vec<u32> = Vec::new();
+                w.overlap_point(p, &QueryFilter::ALL, |r| {
+                    at.push(r.shape.index);
+                    true
+                });
+                at.sort();
+                let brute: Vec<u32> = w
+                    .shapes()
+                    .filter(|v| v.shape.contains(v.transform.apply_inv(p)))
+                    .map(|v| v.id.index)
+                    .collect();
+                assert_eq!(at, brute, "phase {phase} point {k}");
+                let region = Aabb {
+                    min: p - Vec2::splat(2.0),
+                    max: p + Vec2::splat(2.0),
+                };
+                let mut inside: Vec<u32> = Vec::new();
+                w.overlap_aabb(&region, &QueryFilter::default(), |r| {
+                    inside.push(r.shape.index);
+                    true
+                });
+                inside.sort();
+                let brute: Vec<u32> = w
+                    .shapes()
+                    .filter(|v| !v.sensor && v.shape.aabb(v.transform).overlaps(&region))
+                    .map(|v| v.id.index)
+                    .collect();
+                assert_eq!(inside, brute, "phase {phase} box {k}");
+                let probe = Shape::Circle(crate::shape::Circle { radius: 2.0 });
+                let pose = Transform {
+                    p,
+                    q: crate::math::Rot::IDENTITY,
+                };
+                let mut touching: Vec<u32> = Vec::new();
+                w.overlap_shape(&probe, pose, &QueryFilter::default(), |r| {
+                    touching.push(r.shape.index);
+                    true
+                });
+                touching.sort();
+                let brute: Vec<u32> = w
+                    .shapes()
+                    .filter(|v| !v.sensor && shapes_overlap(&probe, pose, v.shape, v.transform))
+                    .map(|v| v.id.index)
+                    .collect();
+                assert_eq!(touching, brute, "phase {phase} shape {k}");
+            }
+        }
+        // body_at is a point query too: the body of the last shape (in slot order) there.
+        for v in w.shapes().filter(|v| v.shape.has_area()) {
+            let p = v.transform.p;
+            let top = w
+                .shapes()
+                .filter(|u| u.shape.contains(u.transform.apply_inv(p)))
+                .last()
+                .map(|u| u.body);
+            assert_eq!(w.body_at(p), top);
+        }
+    }
+
+    #[test]
+    fn a_ray_that_passes_nothing_hits_nothing_and_bad_input_is_no_hit() {
+        let w = scatter();
+        assert!(
+            w.cast_ray_closest(
+                Vec2::new(-40.0, 50.0),
+                Vec2::new(80.0, 0.0),
+                &QueryFilter::default()
+            )
+            .is_none()
+        );
+        assert!(
+            w.cast_ray_closest(Vec2::new(f32::NAN, 0.0), Vec2::X, &QueryFilter::default())
+                .is_none()
+        );
+    }
+}
