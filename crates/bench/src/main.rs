@@ -13,6 +13,7 @@ mod compare;
 mod machine;
 mod peers;
 mod plot;
+mod rays;
 mod report;
 mod run;
 mod scenes;
@@ -56,6 +57,9 @@ enum Command {
     /// stepped with every stage inline and with every stage split; writes a markdown table and
     /// the crossovers `WideThresholds::default()` is set from.
     Thresholds(thresholds::ThresholdsArgs),
+    /// What a ray cast costs through the broad phase's tree against a scan of every shape, on
+    /// a scene after it has run; both must find the same nearest hit.
+    Rays(rays::RaysArgs),
     /// Print the JSON Schema of scene files (draft 2020-12), for editors; docs/scene.schema.json
     /// is its output.
     Schema(schema::SchemaArgs),
@@ -82,6 +86,7 @@ fn main() -> ExitCode {
         Command::Report(args) => report::run(&args),
         Command::Soak(args) => soak::run(&args),
         Command::Thresholds(args) => thresholds::run(&args),
+        Command::Rays(args) => rays::run(&args),
         Command::Schema(args) => schema::run(&args),
     };
     match result {

@@ -455,8 +455,13 @@ impl BroadPhase {
                     }
                 }
             } else {
-                stack[top] = node.child_or_first;
-                stack[top + 1] = node.child_or_first + 1;
+                // Nearer child on top, so that a hit found there clips the ray before the
+                // farther one is tried (front to back along the ray).
+                let (a, b) = (node.child_or_first, node.child_or_first + 1);
+                let along = |n: u32| translation.dot(self.nodes[n as usize].aabb.center());
+                let (near, far) = if along(a) <= along(b) { (a, b) } else { (b, a) };
+                stack[top] = far;
+                stack[top + 1] = near;
                 top += 2;
             }
         }
