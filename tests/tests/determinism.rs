@@ -36,6 +36,8 @@ struct Run {
     circle_contacts: usize,
     /// Every event of the run, with the world's step count when it was read.
     events: Vec<(u64, Event)>,
+    /// Bodies continuous collision moved back to their time of impact, over the run.
+    rewound: usize,
 }
 
 impl Run {
@@ -49,6 +51,7 @@ impl Run {
             contacts: w.contact_count(),
             circle_contacts,
             events: log.events,
+            rewound: log.rewound,
         }
     }
 }
@@ -60,6 +63,8 @@ struct EventLog {
     events: Vec<(u64, Event)>,
     /// How many of the world's current list are read.
     read: usize,
+    /// Bodies continuous collision moved back, summed over the steps read.
+    rewound: usize,
 }
 
 impl EventLog {
@@ -67,6 +72,7 @@ impl EventLog {
     fn read(&mut self, w: &World, stepped: bool) {
         if stepped {
             self.read = 0;
+            self.rewound += w.profile().rewound;
         }
         let new = &w.events()[self.read..];
         self.events.extend(new.iter().map(|e| (w.step_count(), *e)));
@@ -194,6 +200,11 @@ fn assert_same(reference: &Run, other: &Run) {
     assert_eq!(
         reference.contacts, other.contacts,
         "contact count {} vs {}",
+        reference.label, other.label
+    );
+    assert_eq!(
+        reference.rewound, other.rewound,
+        "bodies moved back by continuous collision {} vs {}",
         reference.label, other.label
     );
     assert_eq!(
@@ -363,7 +374,27 @@ fn pyramid_with_overflow_and_kinematic() -> SceneDef {
         .kind(BodyKind::Static)
         .at(-35.0, 20.0),
     );
-    scene.name = "large_pyramid + plank + kinematic + sensors".into();
+    // Fast spinning capsules shot down at the ground beside the pyramid, and a bullet disc
+    // into its right flank: continuous collision sweeps them while the pyramid is solved.
+    for i in 0..3 {
+        scene.push(
+            BodyDef::new(ShapeDef::Capsule {
+                center1: [-0.5, 0.0],
+                center2: [0.5, 0.0],
+                radius: 0.05,
+            })
+            .at(-70.0 - 4.0 * i as f32, 30.0)
+            .velocity(0.0, -250.0)
+            .spin(50.0),
+        );
+    }
+    scene.push(
+        BodyDef::new(ShapeDef::Circle { radius: 0.1 })
+            .at(60.0, 3.0)
+            .velocity(-300.0, 0.0)
+            .bullet(true),
+    );
+    scene.name = "large_pyramid + plank + kinematic + sensors + fast bodies".into();
     scene
 }
 
@@ -390,6 +421,7 @@ fn benchmark_scenes_are_bit_identical_on_1_to_4_real_workers() {
             assert!(has(|e| matches!(e, Event::ContactBegin { .. })));
             assert!(has(|e| matches!(e, Event::SensorBegin { .. })));
             assert!(has(|e| matches!(e, Event::SensorEnd { .. })));
+            assert!(one.rewound >= 4, "swept bodies moved back: {}", one.rewound);
         } else {
             // The ram hits the grid at 15 m/s and knocks boxes apart.
             let has = |f: fn(&Event) -> bool| one.events.iter().any(|(_, e)| f(e));

@@ -890,8 +890,8 @@ mod imp {
              `set_thread_count(threads)`.\n\
              - **Box2D**: tumble's gravity, contact hertz, damping ratio, push-out speed \
              (`contactSpeed`), restitution threshold, speed cap and sleep threshold (its time to \
-             sleep is fixed at 0.5 s); continuous collision off (tumble has none); contact and \
-             sensor events off (tumble makes none); `workerCount = threads` (Box2D's own \
+             sleep is fixed at 0.5 s); continuous collision as the scene says (on by default, as in \
+             tumble); contact and sensor events off; `workerCount = threads` (Box2D's own \
              scheduler: the caller plus threads − 1). Boxes are `b2MakeBox` (`b2MakeOffsetBox` \
              for an offset part), other polygons the hull of their vertices, radius 0. Friction \
              mixes as `sqrt(a·b)` and restitution as `max(a, b)`, as in tumble.\n\

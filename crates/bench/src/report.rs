@@ -544,8 +544,9 @@ fn markdown(
         md,
         "\nEach engine builds the scene from the same `SceneDef` as `tumble-bench compare` \
          does (docs/bench/README.md: same bodies, shapes, densities, friction `sqrt(a·b)`, \
-         restitution `max(a, b)`, gravity, dt = 1/60 s; Box2D with sleep and continuous \
-         collision off; Rapier with sleep and CCD off).\n"
+         restitution `max(a, b)`, gravity, dt = 1/60 s; Box2D with sleep off and continuous \
+         collision as tumble's (on; a body is swept only in a step where it moves more than half its \
+         thickness); Rapier with sleep and CCD off).\n"
     );
 
     for (n, (case, points, secs)) in results.iter().enumerate() {

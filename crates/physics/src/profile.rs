@@ -47,6 +47,11 @@ pub struct StepProfile {
     pub inline: bool,
     /// Contacts whose manifold was recycled rather than recomputed.
     pub recycled: usize,
+    /// Fast bodies continuous collision swept, and of those the ones it moved back to their
+    /// time of impact.
+    pub swept: usize,
+    /// See `swept`.
+    pub rewound: usize,
     /// Bodies whose state went non-finite in this step and were stopped at their last finite
     /// pose (zero unless something upstream is broken). This step only: a run's checks want
     /// `World::non_finite_bodies`, the total over every step.

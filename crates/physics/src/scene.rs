@@ -582,7 +582,7 @@ pub struct SceneDef {
     /// Bodies that rest fall asleep with their island and cost nothing until woken.
     #[serde(default = "yes")]
     pub sleep: bool,
-    /// Continuous collision (not built yet, issue 18): accepted and kept.
+    /// Continuous collision ([`crate::StepSettings::continuous`]).
     #[serde(default = "yes", skip_serializing_if = "is_true")]
     #[cfg_attr(feature = "schema", schemars(extend("default" = true)))]
     pub continuous: bool,

@@ -21,10 +21,9 @@
 //! (0.5 s, tumble's default): a scene's other `solver.time_to_sleep` is not passed on.
 //!
 //! World: tumble's gravity, contact hertz, damping ratio, push-out speed, restitution threshold
-//! and speed cap; continuous collision off (tumble has no time of impact; its swept boxes,
-//! a speculative stand-in, are always on against static bodies and for `bullet`s, which are
-//! passed on as `isBullet` but do nothing in Box2D with continuous off; the scene's
-//! `continuous` is not passed on); contact events off (tumble produces none); `threads`
+//! and speed cap; continuous collision as tumble's world has it (the scene's `continuous`;
+//! `bullet`s passed on as `isBullet`); contact events off (tumble's are gathered whether read
+//! or not, but cost nothing measurable where nobody reads them); `threads`
 //! workers (Box2D's own scheduler: the caller plus `threads - 1` threads). A scene with a
 //! script ([`super::script`]) runs it before each step: junkyard's pusher through
 //! `b2Body_SetTargetTransform`, rain's groups made as the scene's bodies and joints are, and
@@ -128,7 +127,7 @@ impl Box2d {
             WorldBuilder::from(f.world_def())
                 .gravity(Vec2::new(scene.gravity[0], scene.gravity[1]))
                 .enable_sleep(scene.sleep)
-                .enable_continuous(false)
+                .enable_continuous(settings.continuous)
                 .contact_hertz(settings.contact_hertz)
                 .contact_damping_ratio(settings.contact_damping_ratio)
                 .contact_speed(settings.max_push_speed)
@@ -621,7 +620,7 @@ mod tests {
     /// order of solving them gives the same result. Each starts 1 mm above the ground: within
     /// the speculative distance (2 cm), which both engines use; a body approaching faster than
     /// that in a step meets it earlier in tumble, whose speculative margin also grows with the
-    /// closing speed (Box2D has continuous collision for that, off in this comparison).
+    /// closing speed (both sweep fast bodies too, but none here is fast).
     fn apart() -> SceneDef {
         let mut scene = SceneDef::new("apart");
         // The solver's motion only: nothing falls asleep part way.

@@ -2,6 +2,7 @@
 //! turns each pair into a contact manifold of up to two points.
 
 pub mod broad_phase;
+pub mod distance;
 pub mod manifold;
 pub mod ray;
 

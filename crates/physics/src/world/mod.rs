@@ -10,6 +10,7 @@
 //! next, under a new generation.
 
 mod bodies;
+mod continuous;
 mod events;
 mod joints;
 mod query;
@@ -399,6 +400,13 @@ pub struct World {
     event_log: events::EventLog,
     /// Each sensor shape's overlaps after the last step.
     sensors: events::SensorOverlaps,
+    /// Continuous collision's kept buffers: each fast body's pose at the step's start (by
+    /// slot), this step's fast bodies, and the candidates of one sweep.
+    sweep_starts: Vec<Transform>,
+    fast_bodies: Vec<u32>,
+    continuous_scratch: Vec<u32>,
+    /// Bodies continuous collision moved back this step (for the profile).
+    profile_rewound: usize,
 }
 
 impl World {
@@ -462,6 +470,10 @@ impl World {
             joint_meta_stale: true,
             event_log: events::EventLog::default(),
             sensors: events::SensorOverlaps::new(),
+            sweep_starts: Vec::new(),
+            fast_bodies: Vec::new(),
+            continuous_scratch: Vec::new(),
+            profile_rewound: 0,
         }
     }
 
@@ -473,6 +485,7 @@ impl World {
             gravity: Vec2::from(scene.gravity),
             enable_sleep: scene.sleep,
             hit_speed: scene.hit_speed,
+            continuous: scene.continuous,
             ..StepSettings::default()
         };
         scene.solver.apply(&mut settings);

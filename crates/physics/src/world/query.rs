@@ -105,7 +105,12 @@ impl World {
 
     /// Calls `f(shape slot)` for every shape `filter` sees whose fat box overlaps `aabb`,
     /// until it returns false.
-    fn shapes_in_box(&self, aabb: &Aabb, filter: &QueryFilter, mut f: impl FnMut(u32) -> bool) {
+    pub(super) fn shapes_in_box(
+        &self,
+        aabb: &Aabb,
+        filter: &QueryFilter,
+        mut f: impl FnMut(u32) -> bool,
+    ) {
         let mut going = true;
         if self.tree_holds_every_proxy() {
             self.broad_phase.query(aabb, &self.fat_aabbs, |s| {

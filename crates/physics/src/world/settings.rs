@@ -62,6 +62,11 @@ pub struct StepSettings {
     /// scene's `hit_speed`; Box2D's `hitEventThreshold`, 1 m/s).
     #[serde(default = "hit_speed")]
     pub hit_speed: f32,
+    /// Continuous collision: a dynamic body that moves more than half its thickness in a
+    /// step is swept against the static shapes (a bullet against every body), so that none
+    /// passes through (a scene's `continuous`; Box2D's `enableContinuous`, on by default).
+    #[serde(default = "yes")]
+    pub continuous: bool,
 }
 
 fn hit_speed() -> f32 {
@@ -109,6 +114,7 @@ impl Default for StepSettings {
             joint_hertz: joint_hertz(),
             joint_damping_ratio: joint_damping_ratio(),
             hit_speed: hit_speed(),
+            continuous: true,
         }
     }
 }

@@ -19,6 +19,7 @@ use web_time::Instant;
 use super::{BodySim, Contact, ContactCache, ContactKey, ShapeRecord, World, pair_key};
 use crate::SPECULATIVE_DISTANCE;
 use crate::collision::{Manifold, collide};
+use crate::math::Transform;
 use crate::parallel::{SharedSlice, Spread, for_each_part, for_parts};
 use crate::profile::StepProfile;
 use crate::scene::BodyKind;
@@ -110,6 +111,8 @@ impl World {
         profile.moved = self.moved.len();
         profile.moving = self.moving.len();
         profile.recycled = self.profile_recycled;
+        profile.swept = self.fast_bodies.len();
+        profile.rewound = self.profile_rewound;
         profile.non_finite = self.guarded_last_step;
         profile.step_ms = ms(start);
         self.profile = profile;
@@ -589,8 +592,10 @@ impl World {
     fn finalize(&mut self, dt: f32, spread: Spread<'_>) {
         let sleep = self.settings.enable_sleep;
         let threshold = self.settings.sleep_threshold;
-        // Returns whether the numerical guard stopped the body.
-        let finalize_one = |sim: &mut BodySim, st: &mut BodyState| -> bool {
+        let continuous = self.settings.continuous;
+        // Returns whether the numerical guard stopped the body, and for a fast dynamic body
+        // to be swept (continuous collision), its pose at the step's start.
+        let finalize_one = |sim: &mut BodySim, st: &mut BodyState| -> (bool, Option<Transform>) {
             // Box2D `b2FinalizeBodiesTask`: a body that moved more than half its thickness
             // is fast, and its contacts are recomputed rather than recycled.
             let max_motion = (st.dp.length() + st.dq.s.abs() * sim.extent)
@@ -617,35 +622,65 @@ impl World {
                 && st.v.is_finite()
                 && st.w.is_finite()
             {
+                let start = sim.xf;
                 sim.xf.p = p;
                 sim.xf.q = q;
-                false
+                let swept = continuous && sim.fast && sim.kind == BodyKind::Dynamic;
+                (false, swept.then_some(start))
             } else {
                 st.v = Vec2::ZERO;
                 st.w = 0.0;
-                true
+                (true, None)
             }
         };
-        let guarded = {
+        // Each fast dynamic body's pose at the step's start, in its own slot of a kept
+        // buffer (grown only when the world is), for continuous collision.
+        if self.sweep_starts.len() < self.sims.len() {
+            self.sweep_starts
+                .resize(self.sims.len(), Transform::IDENTITY);
+        }
+        // The guard's count, and how many bodies are to be swept.
+        let (guarded, swept) = {
             let sims = SharedSlice::new(&mut self.sims[..]);
             let states = SharedSlice::new(&mut self.states[..]);
+            let starts = SharedSlice::new(&mut self.sweep_starts[..]);
             for_parts(
                 spread,
                 &self.moving[..],
                 self.wide.finalize,
                 &|_, part: &[u32]| {
-                    part.iter()
-                        .map(|&b| {
-                            // SAFETY: the awake set lists each body once, so no two parts
-                            // (nor two items of one) reach the same slot.
-                            let (sim, st) = unsafe { (sims.at_mut(b), states.at_mut(b)) };
-                            usize::from(finalize_one(sim, st))
-                        })
-                        .sum::<usize>()
+                    let mut counts = (0, 0);
+                    for &b in part {
+                        // SAFETY: the awake set lists each body once, so no two parts (nor
+                        // two items of one) reach the same slot.
+                        let (sim, st) = unsafe { (sims.at_mut(b), states.at_mut(b)) };
+                        let (stopped, start) = finalize_one(sim, st);
+                        counts.0 += usize::from(stopped);
+                        if let Some(start) = start {
+                            // SAFETY: as above, this body's own slot.
+                            unsafe { *starts.at_mut(b) = start };
+                            counts.1 += 1;
+                        }
+                    }
+                    counts
                 },
-                &|a, b| a + b,
+                &|a, b| (a.0 + b.0, a.1 + b.1),
             )
         };
+        // Continuous collision: fast bodies swept against the static shapes, before their
+        // boxes are fitted (in slot order; each reads only what does not move here).
+        let mut fast = std::mem::take(&mut self.fast_bodies);
+        fast.clear();
+        if swept > 0 {
+            fast.extend(self.moving.iter().copied().filter(|&b| {
+                let sim = &self.sims[b as usize];
+                sim.fast && sim.kind == BodyKind::Dynamic
+            }));
+            debug_assert_eq!(fast.len(), swept);
+            self.profile_rewound = self.solve_continuous(&fast, false);
+        } else {
+            self.profile_rewound = 0;
+        }
         // Each shape of a body that moves: its core box, and that box swept along next
         // step's motion; a fat box is grown again when its box leaves it.
         let (sims, states, motion) = (&self.sims, &self.states, &self.motion);
@@ -730,11 +765,53 @@ impl World {
             }
             self.moved.sort_unstable();
         }
+        // Bullets, against every body's final pose (the boxes just fitted); one moved back
+        // has its boxes fitted again.
+        let bullets_rewound = if fast.iter().any(|&b| self.records[b as usize].bullet) {
+            self.solve_continuous(&fast, true)
+        } else {
+            0
+        };
+        self.profile_rewound += bullets_rewound;
+        if bullets_rewound > 0 {
+            for &b in &fast {
+                if self.records[b as usize].bullet {
+                    self.refit_body_boxes(b, dt);
+                }
+            }
+            self.moved.sort_unstable();
+        }
+        self.fast_bodies = fast;
         if !self.moved.is_empty() {
             self.tree_dirty = true;
         }
         self.guarded_last_step = guarded;
         self.non_finite_bodies += guarded as u64;
+    }
+}
+
+impl World {
+    /// Fits body `b`'s shapes' fat boxes to its pose again (after continuous collision moved
+    /// it back), as finalize does, listing any that left its box as moved.
+    fn refit_body_boxes(&mut self, b: u32, dt: f32) {
+        let mut s = self.records[b as usize].first_shape;
+        while s != super::NONE {
+            let su = s as usize;
+            let r = &self.shape_records[su];
+            let sim = &self.sims[b as usize];
+            let (core, swept) = shape_boxes(&self.shapes[su], r, sim, &self.states[b as usize], dt);
+            if !(self.fat_aabbs[su].contains(&swept) && self.core_aabbs[su].contains(&core)) {
+                self.fat_aabbs[su] = swept.grown(sim.margin);
+                if self.core_aabbs[su] != Aabb::EVERYWHERE {
+                    self.core_aabbs[su] = core.grown(sim.margin);
+                }
+                if !self.moved_flags[su] {
+                    self.moved_flags[su] = true;
+                    self.moved.push(s);
+                }
+            }
+            s = r.next;
+        }
     }
 }
 
