@@ -9,13 +9,13 @@ use clap::Args;
 /// Default `--warmup`: steps untimed before a run's timed ones.
 const WARMUP_STEPS: u32 = 10;
 
-/// Default scenes: Box2D's own benchmark scenes that tumble builds the same way (smash,
-/// compounds, junkyard, spinner, tumbler and rain sleeping, as Box2D's benchmark runs them;
-/// junkyard's pusher driven and rain's ragdolls made and destroyed in every engine; spinner's
-/// paddle and tumbler's drum turned by revolute motors, joint_grid's 19794 revolute joints,
-/// in every engine).
-const DEFAULT_SCENES: &str =
-    "large_pyramid,many_pyramids,smash,compounds,junkyard,spinner,joint_grid,tumbler,rain";
+/// Default scenes: Box2D's own benchmark scenes, all ten, that tumble builds the same way
+/// (smash, compounds, junkyard, spinner, tumbler, rain and washer sleeping, as Box2D's
+/// benchmark runs them; junkyard's pusher driven and rain's ragdolls made and destroyed in
+/// every engine; spinner's paddle and tumbler's drum turned by revolute motors, joint_grid's
+/// 19794 revolute joints, washer's kinematic drum, in every engine).
+const DEFAULT_SCENES: &str = "large_pyramid,many_pyramids,smash,compounds,junkyard,spinner,\
+                              joint_grid,tumbler,rain,washer";
 
 /// Most threads the peers take (Box2D's worker count is 1 to 32).
 pub(crate) const MAX_PEER_THREADS: u32 = 32;
@@ -891,7 +891,8 @@ mod imp {
              - **Box2D**: tumble's gravity, contact hertz, damping ratio, push-out speed \
              (`contactSpeed`), restitution threshold, speed cap and sleep threshold (its time to \
              sleep is fixed at 0.5 s); continuous collision as the scene says (on by default, as in \
-             tumble); contact and sensor events off; `workerCount = threads` (Box2D's own \
+             tumble); contact, hit (at the scene's `hit_speed`) and sensor events on for every \
+             shape, the events tumble gathers; `workerCount = threads` (Box2D's own \
              scheduler: the caller plus threads − 1). Boxes are `b2MakeBox` (`b2MakeOffsetBox` \
              for an offset part), other polygons the hull of their vertices, radius 0. Friction \
              mixes as `sqrt(a·b)` and restitution as `max(a, b)`, as in tumble.\n\

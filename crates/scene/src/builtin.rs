@@ -47,6 +47,7 @@ const NAMES: &[&str] = &[
     "stretched_chain",
     "ragdoll",
     "rain",
+    "washer",
 ];
 
 /// All built-in scene names, in menu order.
@@ -85,10 +86,11 @@ pub fn build(name: &str) -> Option<SceneDef> {
         "stretched_chain" => stretched_chain(),
         "ragdoll" => ragdoll(),
         "rain" => rain::scene(),
+        "washer" => washer(),
         _ => return None,
     };
     // Box2D's benchmark turns sleeping off in its pyramids and keeps it on in smash,
-    // compounds, junkyard, spinner, tumbler and rain. The hard cases measure a scene's motion
+    // compounds, junkyard, spinner, tumbler, rain and washer. The hard cases measure a scene's motion
     // to its end, which sleeping would stop: every built-in but those runs awake.
     if !SLEEPING.contains(&name) {
         scene.sleep = false;
@@ -104,6 +106,7 @@ const SLEEPING: &[&str] = &[
     "spinner",
     "tumbler",
     "rain",
+    "washer",
 ];
 
 /// What a built-in does between steps (Box2D's benchmark `Step*` functions): the steps taken
@@ -234,6 +237,10 @@ pub fn describe(name: &str) -> Option<&'static str> {
         "ragdoll" => {
             "A ragdoll of 11 capsule bones on revolute joints with limits and motor friction falls onto the ground (Solver2D's Ragdoll, Box2D's human). \
              Tests a tree of limited joints under impact: the limbs must keep to their limits and settle without jitter."
+        }
+        "washer" => {
+            "Benchmark: 8100 small boxes tumble in a 36 m drum of 40 shapes, one kinematic body turning at 25 deg/s (Box2D's washer, hit events on). \
+             Tests a kinematic body of many shapes stirring a dense pile, with the contacts that begin every step reported as events."
         }
         "rain" => {
             "Benchmark: groups of five ragdolls (capsule bones on limited, sprung, motor-braked hinges) rain onto five rows of 501 ground boxes; every 8 steps a column of groups is made, and once 40 columns stand, the oldest is destroyed and made again (Box2D's rain). \
@@ -1068,6 +1075,68 @@ fn tumbler() -> SceneDef {
     scene
 }
 
+/// Box2D `CreateWasher` (as its benchmark runs it, the drum kinematic): a drum centred at
+/// (0, 10) turning at 25°/s and drifting at (0.001, -0.002) m/s, one kinematic body of 40
+/// quadrilaterals: 36 around a ring from radius 16 to 18, each spanning its 10° and a tenth
+/// of that more on either side (so neighbours overlap), and 4 paddles from radius 14 to 16
+/// every 90°; inside it a 90 x 90 grid of 0.1 half-size boxes 0.21 m apart from (-9.9, 0.1),
+/// whose hit events Box2D turns on (tumble reports hits always); no ground; 500 steps.
+fn washer() -> SceneDef {
+    let mut scene = SceneDef::new("washer");
+    scene.steps = 500;
+    let (r0, r1, r2) = (14.0f32, 16.0f32, 18.0f32);
+    // Box2D turns unit vectors by f32 rotations, one after another.
+    let angle = PI / 18.0;
+    let (q, qo) = (
+        (angle.cos(), angle.sin()),
+        ((0.1 * angle).cos(), (0.1 * angle).sin()),
+    );
+    let turn = |(c, s): (f32, f32), v: [f32; 2]| [c * v[0] - s * v[1], s * v[0] + c * v[1]];
+    let turn_back = |(c, s): (f32, f32), v: [f32; 2]| [c * v[0] + s * v[1], -s * v[0] + c * v[1]];
+    let scale = |r: f32, v: [f32; 2]| [r * v[0], r * v[1]];
+    // The quadrilateral between radii `inner` and `outer` from direction `a1` to `a2` (a2 is
+    // counter-clockwise of a1), counter-clockwise.
+    let quad = |inner: f32, outer: f32, a1: [f32; 2], a2: [f32; 2]| {
+        PartDef::new(ShapeDef::Polygon {
+            vertices: vec![
+                scale(inner, a1),
+                scale(outer, a1),
+                scale(outer, a2),
+                scale(inner, a2),
+            ],
+            radius: 0.0,
+        })
+    };
+    let mut parts = Vec::new();
+    let mut u1 = [1.0f32, 0.0];
+    for i in 0..36 {
+        let u2 = if i == 35 { [1.0, 0.0] } else { turn(q, u1) };
+        parts.push(quad(r1, r2, turn_back(qo, u1), turn(qo, u2)));
+        if i % 9 == 0 {
+            parts.push(quad(r0, r1, u1, u2));
+        }
+        u1 = u2;
+    }
+    scene.push(
+        BodyDef::compound(parts)
+            .kind(BodyKind::Kinematic)
+            .at(0.0, 10.0)
+            .velocity(0.001, -0.002)
+            .spin(25.0f32.to_radians()),
+    );
+    let (grid_count, a) = (90, 0.1f32);
+    let mut y = -1.1 * a * grid_count as f32 + 10.0;
+    for _ in 0..grid_count {
+        let mut x = -1.1 * a * grid_count as f32;
+        for _ in 0..grid_count {
+            scene.push(BodyDef::new(rect(a, a)).at(x, y));
+            x += 2.1 * a;
+        }
+        y += 2.1 * a;
+    }
+    scene
+}
+
 /// Box2D `CreateJointGrid`: a 100 x 100 grid of discs (radius 0.4, density 1) 1 m apart,
 /// column k at x = k, row i at y = -i, each joined to the one above and the one to its left
 /// by a revolute joint halfway between them; the top discs of the 7 middle columns are
@@ -1535,7 +1604,7 @@ mod tests {
 
     #[test]
     fn every_name_builds_describes_and_validates() {
-        assert_eq!(names().len(), 28);
+        assert_eq!(names().len(), 29);
         for &name in names() {
             let scene = build(name).unwrap_or_else(|| panic!("{name} does not build"));
             assert_eq!(scene.name, name);
@@ -1599,6 +1668,11 @@ mod tests {
             ("elastic_box", 40, 4),
             ("pyramid_200", 20_100, 1),
         ];
+        // washer: one kinematic drum, 8100 boxes, no ground.
+        let washer = build("washer").unwrap();
+        assert_eq!(count(&washer, BodyKind::Dynamic), 8100);
+        assert_eq!(count(&washer, BodyKind::Kinematic), 1);
+        assert_eq!(washer.bodies[0].parts().len(), 40);
         for (name, dynamic, fixed) in expect {
             let scene = build(name).unwrap();
             assert_eq!(count(&scene, BodyKind::Dynamic), dynamic, "{name} dynamic");

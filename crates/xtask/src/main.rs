@@ -16,11 +16,11 @@ use std::time::Instant;
 const USAGE_HEAD: &str = "usage: cargo xtask TASK [ARGS]
 
 tasks:
-  test    cargo fmt --check, cargo clippy -D warnings, cargo test, the viewer's offscreen
-          rendering test, the viewer in a real window under Xvfb, the web build in
-          chromium, and the peer comparison tests: every check CI runs (installs the
-          rustfmt and clippy components, the web build's tools and the Debian packages
-          the steps need when they are missing)";
+  test    cargo fmt --check, cargo clippy -D warnings, cargo test, the physics examples,
+          the viewer's offscreen rendering test, the viewer in a real window under Xvfb,
+          the web build in chromium, and the peer comparison tests: every check CI runs
+          (installs the rustfmt and clippy components, the web build's tools and the
+          Debian packages the steps need when they are missing)";
 
 fn usage() -> String {
     format!("{USAGE_HEAD}\n{}\n{}", web::USAGE, fuzz::USAGE)
@@ -189,6 +189,15 @@ fn test_steps() -> Vec<Step> {
             action: Action::Cargo(&["test", "--workspace", "--exclude", "tumble", "-j2"]),
         },
         Step {
+            name: "examples",
+            debian_packages: &[],
+            components: &[],
+            action: Action::Check(
+                "run every example in crates/physics/examples (each checks what it prints)",
+                physics_examples,
+            ),
+        },
+        Step {
             // Unit tests (states, input routing, fixed step, layouts) and offscreen rendering
             // on a real wgpu device (Mesa's lavapipe without a GPU), compared with a
             // reference image.
@@ -228,6 +237,40 @@ fn test_steps() -> Vec<Step> {
             action: Action::Cargo(&["test", "-p", "tumble-bench", "--features", "peers", "-j2"]),
         },
     ]
+}
+
+/// Runs each example of the physics library (`crates/physics/examples/*.rs`, in name order):
+/// each asserts what it shows, so a failing one exits non-zero.
+fn physics_examples(root: &Path) -> Result<(), String> {
+    let dir = root.join("crates/physics/examples");
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .map_err(|e| format!("cannot list {}: {e}", dir.display()))?
+        .filter_map(|entry| {
+            let path = entry.ok()?.path();
+            (path.extension()? == "rs").then(|| path.file_stem()?.to_str().map(String::from))?
+        })
+        .collect();
+    names.sort();
+    if names.is_empty() {
+        return Err(format!("no examples in {}", dir.display()));
+    }
+    for name in names {
+        let mut cmd = Command::new(cargo());
+        cmd.current_dir(root).args([
+            "run",
+            "-q",
+            "-j2",
+            "-p",
+            "tumble-physics",
+            "--example",
+            &name,
+        ]);
+        run_status(
+            &mut cmd,
+            &format!("cargo run -p tumble-physics --example {name}"),
+        )?;
+    }
+    Ok(())
 }
 
 /// Frames the scripted window run draws.

@@ -22,8 +22,8 @@
 //!
 //! World: tumble's gravity, contact hertz, damping ratio, push-out speed, restitution threshold
 //! and speed cap; continuous collision as tumble's world has it (the scene's `continuous`;
-//! `bullet`s passed on as `isBullet`); contact events off (tumble's are gathered whether read
-//! or not, but cost nothing measurable where nobody reads them); `threads`
+//! `bullet`s passed on as `isBullet`); the events tumble gathers on every shape (contact
+//! begin and end, hits at the scene's `hit_speed`, sensor overlaps) on every shape; `threads`
 //! workers (Box2D's own scheduler: the caller plus `threads - 1` threads). A scene with a
 //! script ([`super::script`]) runs it before each step: junkyard's pusher through
 //! `b2Body_SetTargetTransform`, rain's groups made as the scene's bodies and joints are, and
@@ -128,6 +128,7 @@ impl Box2d {
                 .gravity(Vec2::new(scene.gravity[0], scene.gravity[1]))
                 .enable_sleep(scene.sleep)
                 .enable_continuous(settings.continuous)
+                .hit_event_threshold(settings.hit_speed)
                 .contact_hertz(settings.contact_hertz)
                 .contact_damping_ratio(settings.contact_damping_ratio)
                 .contact_speed(settings.max_push_speed)
@@ -240,8 +241,11 @@ fn create_body(
                 .material(material)
                 .filter(filter(&part.filter).map_err(|e| anyhow::anyhow!("{what}: {e}"))?)
                 .sensor(part.sensor)
-                .enable_sensor_events(false)
-                .enable_contact_events(false)
+                // The events tumble gathers on every shape: contact begin and end, hits
+                // (Box2D's washer turns them on for its boxes), sensor overlaps.
+                .enable_sensor_events(true)
+                .enable_contact_events(true)
+                .enable_hit_events(true)
                 .build(),
             &what,
         )?;
