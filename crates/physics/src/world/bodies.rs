@@ -192,6 +192,7 @@ impl World {
             self.add_sensor(index);
         }
         self.proxies_changed = true;
+        self.static_tree_stale = true;
         self.tree_dirty = true;
         ShapeId { index, generation }
     }
@@ -398,6 +399,9 @@ impl World {
             }
         }
         self.tree_dirty = true;
+        if self.sims[i].kind == BodyKind::Static {
+            self.static_tree_stale = true;
+        }
     }
 
     /// Sets a body's velocities (e.g. a mouse drag) by slot; ignored for static bodies and
@@ -537,6 +541,9 @@ impl World {
             self.kinematic_count += 1;
         }
         self.sims[i].kind = kind;
+        if old == BodyKind::Static || kind == BodyKind::Static {
+            self.static_tree_stale = true;
+        }
         if kind == BodyKind::Static {
             self.states[i].v = Vec2::ZERO;
             self.states[i].w = 0.0;
@@ -726,6 +733,7 @@ impl World {
         self.shape_body[su] = NONE;
         self.shape_slots.release(s);
         self.proxies_changed = true;
+        self.static_tree_stale = true;
         self.tree_dirty = true;
     }
 

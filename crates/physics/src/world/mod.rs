@@ -407,6 +407,10 @@ pub struct World {
     continuous_scratch: Vec<u32>,
     /// Bodies continuous collision moved back this step (for the profile).
     profile_rewound: usize,
+    /// A tree of the static shapes alone, which a fast body is swept against (Box2D keeps a
+    /// tree per body type): rebuilt when a static shape is added, removed or moved.
+    static_tree: BroadPhase,
+    static_tree_stale: bool,
 }
 
 impl World {
@@ -474,6 +478,8 @@ impl World {
             fast_bodies: Vec::new(),
             continuous_scratch: Vec::new(),
             profile_rewound: 0,
+            static_tree: BroadPhase::default(),
+            static_tree_stale: true,
         }
     }
 

@@ -288,6 +288,7 @@ impl World {
         world.joint_slots = snapshot.joint_slots;
         world.joints = snapshot.joints;
         world.proxies_changed = true;
+        world.static_tree_stale = true;
         world.tree_dirty = true;
         Ok(world)
     }
