@@ -312,7 +312,7 @@ impl Gfx {
     /// (the surface was outdated or the window hidden).
     fn render(
         &mut self,
-        view: Option<crate::state::View<'_>>,
+        view: Option<crate::render::View<'_>>,
         debug: &crate::settings::DebugDraw,
         primitives: &[egui::ClippedPrimitive],
         textures: &mut egui::TexturesDelta,
@@ -337,7 +337,7 @@ impl Gfx {
 
     fn draw(
         &mut self,
-        view: Option<crate::state::View<'_>>,
+        view: Option<crate::render::View<'_>>,
         debug: &crate::settings::DebugDraw,
         primitives: &[egui::ClippedPrimitive],
         pixels_per_point: f32,
@@ -575,7 +575,7 @@ impl App {
 
         let last_scripted = self.options.frames == Some(self.frames + 1);
         let scripted_capture = last_scripted && self.options.screenshot.is_some();
-        let capture = force_capture || scripted_capture || self.shared.screenshot_requested;
+        let capture = force_capture || scripted_capture || self.shared.toggles.screenshot_requested;
         let view = self.machine.view();
         let debug = self.shared.settings.debug;
         let drawn = gfx.render(
@@ -673,8 +673,8 @@ impl App {
             image.save_png(&path)?;
             self.screenshot_written = true;
         }
-        if self.shared.screenshot_requested {
-            self.shared.screenshot_requested = false;
+        if self.shared.toggles.screenshot_requested {
+            self.shared.toggles.screenshot_requested = false;
             let secs = web_time::SystemTime::now()
                 .duration_since(web_time::UNIX_EPOCH)
                 .map_or(0, |d| d.as_millis());

@@ -212,8 +212,30 @@ pub enum GlobalOutcome {
     Back,
 }
 
+/// The app-wide toggles the global keys flip (the states and the UI read them).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Toggles {
+    /// F1: all UI shown.
+    pub ui_visible: bool,
+    /// H: the help window.
+    pub help_visible: bool,
+    /// F12 or P: save the next frame as a PNG.
+    pub screenshot_requested: bool,
+}
+
+impl Default for Toggles {
+    /// UI shown, no help, no screenshot pending.
+    fn default() -> Self {
+        Toggles {
+            ui_visible: true,
+            help_visible: false,
+            screenshot_requested: false,
+        }
+    }
+}
+
 /// The global state: always active, whatever is on top, and first to see every input.
-/// It owns the app-wide toggles the states read through [`crate::state::Shared`].
+/// It flips the app-wide [`Toggles`]; it knows nothing of the states.
 #[derive(Clone, Debug, Default)]
 pub struct Global {
     /// Escape presses seen (all of them, whatever was on top or had focus).
@@ -228,7 +250,7 @@ impl Global {
         &mut self,
         event: &InputEvent,
         egui_has_keyboard: bool,
-        shared: &mut crate::state::Shared,
+        toggles: &mut Toggles,
     ) -> GlobalOutcome {
         let InputEvent::Key {
             key,
@@ -244,19 +266,19 @@ impl Global {
                 GlobalOutcome::Back
             }
             Key::F1 if !repeat => {
-                shared.ui_visible = !shared.ui_visible;
+                toggles.ui_visible = !toggles.ui_visible;
                 GlobalOutcome::Consumed
             }
             Key::F12 if !repeat => {
-                shared.screenshot_requested = true;
+                toggles.screenshot_requested = true;
                 GlobalOutcome::Consumed
             }
             Key::P if !repeat && !egui_has_keyboard => {
-                shared.screenshot_requested = true;
+                toggles.screenshot_requested = true;
                 GlobalOutcome::Consumed
             }
             Key::H if !repeat && !egui_has_keyboard => {
-                shared.help_visible = !shared.help_visible;
+                toggles.help_visible = !toggles.help_visible;
                 GlobalOutcome::Consumed
             }
             _ => GlobalOutcome::Pass,

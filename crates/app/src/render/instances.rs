@@ -686,14 +686,11 @@ mod tests {
         inst.add_bodies(&world, Coloring::Id, 0.0);
         assert_eq!(inst.circles.len() + inst.polygons.len(), n - 1);
         assert!(inst.circles.iter().all(|c| c.center != at.to_array()));
-        let mut shared = crate::state::Shared::new(
-            crate::settings::Settings::default(),
-            Vec2::new(800.0, 600.0),
-        );
-        shared.settings.debug.aabbs = true;
-        shared.settings.debug.center_of_mass = true;
+        let mut debug = crate::settings::Settings::default().debug;
+        debug.aabbs = true;
+        debug.center_of_mass = true;
         let camera = Camera::new(Vec2::ZERO, 20.0, Vec2::new(800.0, 600.0));
-        inst.add_debug(&world, &shared.settings.debug, &camera);
+        inst.add_debug(&world, &debug, &camera);
         // A box (4 lines, 8 vertices) per live shape, axes (2 lines) per moving body.
         let moving = (0..n)
             .filter(|&i| world.is_body(i) && world.body(i).kind != BodyKind::Static)

@@ -14,7 +14,20 @@ use pipeline::Pipelines;
 
 use crate::camera::Camera;
 use crate::settings::DebugDraw;
-use crate::state::View;
+use crate::sim::Sim;
+
+/// What the renderer draws for a state: a world seen through a camera.
+#[derive(Clone, Copy)]
+pub struct View<'a> {
+    /// The simulation to draw.
+    pub sim: &'a Sim,
+    /// Where to look.
+    pub camera: &'a Camera,
+    /// Whether the debug-draw settings apply (not for the intro's and menu's backdrop).
+    pub debug: bool,
+    /// How much to dim the world (0: not at all, 1: black), for backdrops.
+    pub dim: f32,
+}
 
 /// The camera as the shaders read it (32 bytes, std140-compatible).
 #[repr(C)]

@@ -16,8 +16,9 @@ pub mod simulation;
 
 use glam::Vec2;
 
-use crate::camera::Camera;
-use crate::input::{Global, GlobalOutcome, InputEvent};
+use crate::input::{Global, GlobalOutcome, InputEvent, Toggles};
+use crate::ui::Notices;
+pub use crate::render::View;
 use crate::settings::Settings;
 use crate::sim::Sim;
 
@@ -78,30 +79,16 @@ pub enum Signal {
     Restart,
 }
 
-/// What the renderer draws for a state: a world seen through a camera.
-#[derive(Clone, Copy)]
-pub struct View<'a> {
-    /// The simulation to draw.
-    pub sim: &'a Sim,
-    /// Where to look.
-    pub camera: &'a Camera,
-    /// Whether the debug-draw settings apply (not for the intro's and menu's backdrop).
-    pub debug: bool,
-    /// How much to dim the world (0: not at all, 1: black), for backdrops.
-    pub dim: f32,
-}
-
-/// App-wide data every state may read and change: settings and the global toggles.
+/// App-wide data every state may read and change: the persisted settings, the toggles of
+/// the global keys, the notices the UI shows, and what the frame knows of the window.
 #[derive(Clone, Debug)]
 pub struct Shared {
     /// Persisted settings.
     pub settings: Settings,
-    /// F1: all UI shown.
-    pub ui_visible: bool,
-    /// H: the help window.
-    pub help_visible: bool,
-    /// F12 or P: save the next frame as a PNG.
-    pub screenshot_requested: bool,
+    /// What F1, H, F12 and P flip.
+    pub toggles: Toggles,
+    /// The toast and a recovered crash.
+    pub notices: Notices,
     /// The window's size in physical pixels.
     pub viewport: Vec2,
     /// The part of the window not covered by panels (physical pixels: min, max), where
@@ -113,8 +100,6 @@ pub struct Shared {
     pub fps: f64,
     /// The graphics backend, as wgpu names it ("Vulkan", "Gl", ...).
     pub backend: String,
-    /// A short message shown for a few seconds (e.g. where a screenshot went).
-    pub toast: Option<(String, f64)>,
     /// Seconds since the app started.
     pub time: f64,
     /// Why the platform offers fewer threads than the machine has, if it does (the web build
@@ -122,10 +107,6 @@ pub struct Shared {
     pub threads_note: Option<String>,
     /// Where the thread slider was drawn this frame (egui points), for tests that drive it.
     pub threads_slider: Option<egui::Rect>,
-    /// The message of a panic the machine recovered from (a bug), shown until dismissed.
-    pub crash: Option<String>,
-    /// Panics recovered from in this run (for `--stats`).
-    pub crashes: u32,
 }
 
 impl Shared {
@@ -133,26 +114,22 @@ impl Shared {
     pub fn new(settings: Settings, viewport: Vec2) -> Self {
         Self {
             settings,
-            ui_visible: true,
-            help_visible: false,
-            screenshot_requested: false,
+            toggles: Toggles::default(),
+            notices: Notices::default(),
             viewport,
             view_area: (Vec2::ZERO, viewport),
             pixels_per_point: 1.0,
             fps: 0.0,
             backend: String::new(),
-            toast: None,
             time: 0.0,
             threads_note: None,
             threads_slider: None,
-            crash: None,
-            crashes: 0,
         }
     }
 
     /// Shows `text` for a few seconds.
     pub fn toast(&mut self, text: impl Into<String>) {
-        self.toast = Some((text.into(), self.time + 4.0));
+        self.notices.toast = Some((text.into(), self.time + 4.0));
     }
 }
 
@@ -264,7 +241,7 @@ impl StateMachine {
     /// the state on top. A button release always reaches the state, so a drag that began in
     /// the world ends even when the pointer is let go over a panel.
     pub fn input(&mut self, event: InputEvent, egui: EguiWants, shared: &mut Shared) -> Routed {
-        match self.global.handle(&event, egui.keyboard, shared) {
+        match self.global.handle(&event, egui.keyboard, &mut shared.toggles) {
             GlobalOutcome::Consumed => return Routed::Global,
             GlobalOutcome::Back => {
                 if let Some(top) = self.stack.last_mut() {
@@ -309,7 +286,12 @@ impl StateMachine {
                 m.apply(t, shared);
             }
         });
-        crate::ui::global_ui(ui, shared, self.top_kind());
+        crate::ui::global_ui(
+            ui,
+            &mut shared.toggles.help_visible,
+            &mut shared.notices,
+            shared.time,
+        );
     }
 
     /// Runs `f` on the states; if a state panics (a bug), the viewer goes back to the main

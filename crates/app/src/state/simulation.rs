@@ -3,6 +3,8 @@
 //! that drop and remove bodies at the pointer (B, N, X / Delete), and the control and
 //! profile panels.
 
+mod controls;
+
 use glam::Vec2;
 
 use super::{Paused, Shared, Signal, State, StateKind, Transition, View};
@@ -245,7 +247,7 @@ impl State for Simulation {
     }
 
     fn ui(&mut self, ui: &mut egui::Ui, shared: &mut Shared) -> Transition {
-        crate::ui::controls::simulation_ui(ui, self, shared)
+        controls::simulation_ui(ui, self, shared)
     }
 
     fn view(&self) -> Option<View<'_>> {

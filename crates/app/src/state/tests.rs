@@ -165,14 +165,14 @@ fn the_simulation_never_sees_keys_egui_consumed() {
     assert_eq!(steps(&m), 0);
     // Typing "p": no screenshot.
     assert_eq!(m.input(press(Key::P), EGUI_KEYBOARD, &mut sh), Routed::Egui);
-    assert!(!sh.screenshot_requested);
+    assert!(!sh.toggles.screenshot_requested);
     // The same keys with no text field focused reach the simulation.
     assert_eq!(m.input(press(Key::Space), NO_EGUI, &mut sh), Routed::State);
     assert_eq!(m.sim().unwrap().running, !running);
     m.input(press(Key::S), NO_EGUI, &mut sh);
     assert_eq!(steps(&m), 1);
     assert_eq!(m.input(press(Key::P), NO_EGUI, &mut sh), Routed::Global);
-    assert!(sh.screenshot_requested);
+    assert!(sh.toggles.screenshot_requested);
 }
 
 #[test]
@@ -261,11 +261,11 @@ fn keys_drop_and_remove_bodies_at_the_pointer() {
     m.input(press(Key::Delete), NO_EGUI, &mut sh);
     assert_eq!(live(&m), bodies);
     // The ground stays, and says so.
-    assert!(sh.toast.is_none());
+    assert!(sh.notices.toast.is_none());
     m.input(moved(Vec2::new(-40.0, -1.0)), NO_EGUI, &mut sh);
     m.input(press(Key::X), NO_EGUI, &mut sh);
     assert_eq!(live(&m), bodies);
-    assert!(sh.toast.as_ref().is_some_and(|(t, _)| t.contains("Static")));
+    assert!(sh.notices.toast.as_ref().is_some_and(|(t, _)| t.contains("Static")));
     // While a text field has the keyboard, the letters are typing.
     m.input(moved(above), NO_EGUI, &mut sh);
     assert_eq!(m.input(press(Key::B), EGUI_KEYBOARD, &mut sh), Routed::Egui);
@@ -276,16 +276,16 @@ fn keys_drop_and_remove_bodies_at_the_pointer() {
 fn global_toggles_work_whatever_is_on_top() {
     let mut sh = shared();
     let mut m = StateMachine::new(Box::new(MainMenu::new(None)));
-    assert!(sh.ui_visible);
+    assert!(sh.toggles.ui_visible);
     assert_eq!(
         m.input(press(Key::F1), EGUI_KEYBOARD, &mut sh),
         Routed::Global
     );
-    assert!(!sh.ui_visible);
+    assert!(!sh.toggles.ui_visible);
     assert_eq!(m.input(press(Key::F12), NO_EGUI, &mut sh), Routed::Global);
-    assert!(sh.screenshot_requested);
+    assert!(sh.toggles.screenshot_requested);
     m.input(press(Key::H), NO_EGUI, &mut sh);
-    assert!(sh.help_visible);
+    assert!(sh.toggles.help_visible);
     // None of them reached the menu (F1 did not start anything).
     assert_eq!(m.kinds(), vec![StateKind::MainMenu]);
 }
@@ -304,7 +304,7 @@ fn ui_of_every_state_runs_headless() {
     let mut paused = simulation(&sh);
     paused.input(press(Key::Escape), NO_EGUI, &mut sh);
     machines.push(paused);
-    sh.help_visible = true;
+    sh.toggles.help_visible = true;
     sh.settings.profile_open = true;
     for m in &mut machines {
         for _ in 0..2 {
@@ -349,8 +349,8 @@ fn a_panicking_state_gives_the_menu_and_a_message_not_a_dead_app() {
     let mut m = StateMachine::new(Box::new(Buggy { in_ui: false }));
     m.update(1.0 / 60.0, &mut sh);
     assert_eq!(m.kinds(), vec![StateKind::MainMenu]);
-    assert_eq!(sh.crash.as_deref(), Some("a bug in update"));
-    assert_eq!(sh.crashes, 1);
+    assert_eq!(sh.notices.crash.as_deref(), Some("a bug in update"));
+    assert_eq!(sh.notices.crashes, 1);
     // The menu goes on working.
     m.update(1.0 / 60.0, &mut sh);
     assert_eq!(m.kinds(), vec![StateKind::MainMenu]);
@@ -363,6 +363,6 @@ fn a_panicking_state_gives_the_menu_and_a_message_not_a_dead_app() {
     assert!(!out.shapes.is_empty());
     out.drop_without_applying_deltas();
     assert_eq!(m.kinds(), vec![StateKind::MainMenu]);
-    assert_eq!(sh.crash.as_deref(), Some("a bug in the UI"));
-    assert_eq!(sh.crashes, 2);
+    assert_eq!(sh.notices.crash.as_deref(), Some("a bug in the UI"));
+    assert_eq!(sh.notices.crashes, 2);
 }

@@ -1,12 +1,23 @@
-//! The egui side: the simulation's control panel, the profile panel with its plots, and the
-//! global UI every state gets (the help window and short messages).
+//! The egui side, as widgets that know no state: the profile panel with its plots, and the
+//! global UI every state gets (the help window and short messages). A state draws them with
+//! what they show, passed in (the simulation's own panel is the simulation state's:
+//! `state/simulation/controls.rs`).
 
-pub mod controls;
 pub mod profiler;
 
 use egui::{Align2, Color32, RichText};
 
-use crate::state::{Shared, StateKind};
+/// Messages the UI shows over every state: a short notice, and a recovered internal error.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Notices {
+    /// A short message shown until the time given (app seconds), e.g. where a screenshot
+    /// went.
+    pub toast: Option<(String, f64)>,
+    /// The message of a panic the machine recovered from (a bug), shown until dismissed.
+    pub crash: Option<String>,
+    /// Panics recovered from in this run (for `--stats`).
+    pub crashes: u32,
+}
 
 /// The keys, as the help window lists them.
 pub const KEYS: &[(&str, &str)] = &[
@@ -29,10 +40,11 @@ pub const KEYS: &[(&str, &str)] = &[
     ("Wheel", "zoom at the pointer"),
 ];
 
-/// The help window (H) and the message of the moment, whatever state is on top.
-pub fn global_ui(ui: &mut egui::Ui, shared: &mut Shared, _top: Option<StateKind>) {
+/// The help window (H, `help_visible`) and the message of the moment, whatever state is on
+/// top; `time` is the app's clock, which a toast's deadline is on.
+pub fn global_ui(ui: &mut egui::Ui, help_visible: &mut bool, notices: &mut Notices, time: f64) {
     let ctx = ui.ctx().clone();
-    if shared.help_visible {
+    if *help_visible {
         let mut open = true;
         egui::Window::new("Help")
             .open(&mut open)
@@ -48,9 +60,9 @@ pub fn global_ui(ui: &mut egui::Ui, shared: &mut Shared, _top: Option<StateKind>
                     }
                 });
             });
-        shared.help_visible = open;
+        *help_visible = open;
     }
-    if let Some(what) = shared.crash.clone() {
+    if let Some(what) = notices.crash.clone() {
         egui::Window::new("tumble hit an internal error")
             .resizable(false)
             .collapsible(false)
@@ -62,13 +74,13 @@ pub fn global_ui(ui: &mut egui::Ui, shared: &mut Shared, _top: Option<StateKind>
                      doing is lost. Please report the message above with the scene you ran.",
                 );
                 if ui.button("OK").clicked() {
-                    shared.crash = None;
+                    notices.crash = None;
                 }
             });
     }
-    if let Some((text, until)) = &shared.toast {
-        if shared.time > *until {
-            shared.toast = None;
+    if let Some((text, until)) = &notices.toast {
+        if time > *until {
+            notices.toast = None;
         } else {
             egui::Area::new(egui::Id::unique("toast"))
                 .anchor(Align2::CENTER_BOTTOM, [0.0, -24.0])

@@ -1,6 +1,7 @@
-//! The simulation's side panel (collapsible): scene picker, play/pause/step/restart, live
-//! threads, solver settings, gravity, debug drawing and counters; and the bottom profile
-//! panel.
+//! The simulation state's side panel (collapsible): scene picker, play/pause/step/restart,
+//! live threads, solver settings, gravity, debug drawing and counters; and the bottom profile
+//! panel. The state owns what it shows: this module is the state's, and draws the widgets of
+//! [`crate::ui`], which know no state.
 
 use egui::{Color32, RichText};
 use glam::Vec2;
@@ -11,7 +12,7 @@ use crate::state::{MainMenu, Shared, Simulation, Transition};
 /// The simulation's whole UI; records the part of the window the panels leave free.
 pub fn simulation_ui(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared) -> Transition {
     let mut transition = Transition::None;
-    if shared.ui_visible {
+    if shared.toggles.ui_visible {
         let mut open = shared.settings.panel_open;
         egui::Panel::left("controls")
             .resizable(true)
@@ -36,7 +37,7 @@ pub fn simulation_ui(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared
                 .resizable(true)
                 .default_size(220.0)
                 .show(ui, |ui| {
-                    super::profiler::profile_ui(ui, &st.sim, &mut st.sweep);
+                    crate::ui::profiler::profile_ui(ui, &st.sim, &mut st.sweep);
                 });
         }
     }
@@ -302,7 +303,7 @@ fn controls(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared, out: &m
     ui.checkbox(&mut shared.settings.profile_open, "Profile panel");
     ui.horizontal(|ui| {
         if ui.button("Help (H)").clicked() {
-            shared.help_visible = !shared.help_visible;
+            shared.toggles.help_visible = !shared.toggles.help_visible;
         }
         if ui.button("Back to menu").clicked() {
             *out = Transition::Reset(Box::new(MainMenu::new(None)));
@@ -376,13 +377,13 @@ mod tests {
         world.settings_mut().gravity.y = -3.0;
         keep_valid_settings(&mut world, before, &mut shared);
         assert_eq!(world.settings().gravity.y, -3.0);
-        assert!(shared.toast.is_none());
+        assert!(shared.notices.toast.is_none());
         // A gravity typed as "inf" does not.
         let before = *world.settings();
         world.settings_mut().gravity.x = f32::INFINITY;
         keep_valid_settings(&mut world, before, &mut shared);
         assert_eq!(*world.settings(), before);
-        let (text, _) = shared.toast.expect("a message");
+        let (text, _) = shared.notices.toast.expect("a message");
         assert!(text.contains("`gravity`"), "{text}");
     }
 }
