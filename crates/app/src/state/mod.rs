@@ -17,10 +17,10 @@ pub mod simulation;
 use glam::Vec2;
 
 use crate::input::{Global, GlobalOutcome, InputEvent, Toggles};
-use crate::ui::Notices;
 pub use crate::render::View;
 use crate::settings::Settings;
 use crate::sim::Sim;
+use crate::ui::Notices;
 
 pub use intro::Intro;
 pub use main_menu::MainMenu;
@@ -241,7 +241,10 @@ impl StateMachine {
     /// the state on top. A button release always reaches the state, so a drag that began in
     /// the world ends even when the pointer is let go over a panel.
     pub fn input(&mut self, event: InputEvent, egui: EguiWants, shared: &mut Shared) -> Routed {
-        match self.global.handle(&event, egui.keyboard, &mut shared.toggles) {
+        match self
+            .global
+            .handle(&event, egui.keyboard, &mut shared.toggles)
+        {
             GlobalOutcome::Consumed => return Routed::Global,
             GlobalOutcome::Back => {
                 if let Some(top) = self.stack.last_mut() {
@@ -295,7 +298,7 @@ impl StateMachine {
     }
 
     /// Runs `f` on the states; if a state panics (a bug), the viewer goes back to the main
-    /// menu and shows the message (`shared.crash`) instead of dying or freezing its frame.
+    /// menu and shows the message (`shared.notices.crash`) instead of dying or freezing its frame.
     /// The panic hook has printed it on stderr already. On the web, where panics abort, the
     /// page's overlay shows it instead.
     fn guarded(&mut self, shared: &mut Shared, f: impl FnOnce(&mut Self, &mut Shared)) {
@@ -309,8 +312,8 @@ impl StateMachine {
             // The states may be half-updated: none of them is trusted any more.
             self.stack.clear();
             self.stack.push(Box::new(MainMenu::new(None)));
-            shared.crash = Some(what);
-            shared.crashes += 1;
+            shared.notices.crash = Some(what);
+            shared.notices.crashes += 1;
         }
     }
 

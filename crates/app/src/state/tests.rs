@@ -265,7 +265,12 @@ fn keys_drop_and_remove_bodies_at_the_pointer() {
     m.input(moved(Vec2::new(-40.0, -1.0)), NO_EGUI, &mut sh);
     m.input(press(Key::X), NO_EGUI, &mut sh);
     assert_eq!(live(&m), bodies);
-    assert!(sh.notices.toast.as_ref().is_some_and(|(t, _)| t.contains("Static")));
+    assert!(
+        sh.notices
+            .toast
+            .as_ref()
+            .is_some_and(|(t, _)| t.contains("Static"))
+    );
     // While a text field has the keyboard, the letters are typing.
     m.input(moved(above), NO_EGUI, &mut sh);
     assert_eq!(m.input(press(Key::B), EGUI_KEYBOARD, &mut sh), Routed::Egui);
