@@ -17,8 +17,8 @@ use std::sync::Arc;
 use anyhow::{Context, Result};
 use glam::Vec2;
 use tumble_physics::{
-    BodyDef, BodyId, BodyKind, JointId, JointKind, Rot, SceneDef, ShapeDef, StepSettings, World,
-    WorldSnapshot,
+    BodyDef, BodyId, BodyKind, Event, JointId, JointKind, Rot, SceneDef, ShapeDef, StepSettings,
+    World, WorldSnapshot,
 };
 use tumble_scene::LoadLimits;
 use tumble_scene::builtin::Script;
@@ -423,6 +423,56 @@ pub struct Sim {
     pub metrics: crate::metrics::Metrics,
     /// The built-in scene's per-step script, if it is a built-in that has one.
     script: Option<Script>,
+    /// The last events of the run (the event log panel).
+    pub events: EventLog,
+    /// The ray tool's ray (from, to), drawn with its hits.
+    pub ray: Option<(Vec2, Vec2)>,
+}
+
+/// The last [`EventLog::CAPACITY`] events of a run, each with the step it came in (counted
+/// from 1), and how many of each kind there were since the scene started.
+#[derive(Clone, Debug, Default)]
+pub struct EventLog {
+    /// Oldest first.
+    pub entries: VecDeque<(u64, Event)>,
+    /// Contact begins, contact ends, hits, sensor begins, sensor ends.
+    pub counts: [u64; 5],
+    /// How many of the world's current list are logged (it holds the last step's events and
+    /// those made since).
+    read: usize,
+}
+
+impl EventLog {
+    /// Events kept for the panel.
+    pub const CAPACITY: usize = 200;
+
+    /// The kind's place in `counts`.
+    pub fn kind(event: &Event) -> usize {
+        match event {
+            Event::ContactBegin { .. } => 0,
+            Event::ContactEnd { .. } => 1,
+            Event::Hit { .. } => 2,
+            Event::SensorBegin { .. } => 3,
+            Event::SensorEnd { .. } => 4,
+        }
+    }
+
+    /// Logs what `world` reported since the last call, as step `step`'s; `stepped`: the world
+    /// stepped since (its list then starts afresh).
+    fn record(&mut self, world: &World, step: u64, stepped: bool) {
+        if stepped {
+            self.read = 0;
+        }
+        let events = world.events();
+        for event in &events[self.read.min(events.len())..] {
+            self.counts[Self::kind(event)] += 1;
+            if self.entries.len() == Self::CAPACITY {
+                self.entries.pop_front();
+            }
+            self.entries.push_back((step, *event));
+        }
+        self.read = events.len();
+    }
 }
 
 /// Seconds of simulated time the profile history keeps.
@@ -448,6 +498,8 @@ impl Sim {
             replay: None,
             metrics: crate::metrics::Metrics::default(),
             script: None,
+            events: EventLog::default(),
+            ray: None,
         };
         sim.script = tumble_scene::builtin::script_for(&sim.scene);
         sim.metrics = crate::metrics::Metrics::new(&sim.scene, &sim.world);
@@ -494,6 +546,7 @@ impl Sim {
         self.history.clear();
         self.recording.clear();
         self.replay = None;
+        self.events = EventLog::default();
         self.metrics = crate::metrics::Metrics::new(&self.scene, &self.world);
     }
 
@@ -643,10 +696,12 @@ impl Sim {
         };
         if let Some(script) = self.script {
             script(self.steps, &mut self.world);
+            self.events.record(&self.world, self.steps + 1, false);
         }
         self.mouse = sync_mouse(&mut self.world, self.mouse, input.drag);
         self.world.step(dt, input.substeps);
         self.steps += 1;
+        self.events.record(&self.world, self.steps, true);
         if replay_ends {
             // Edits made after the last recorded step, before the replay began: the world
             // was showing them then.
@@ -1133,5 +1188,38 @@ mod tests {
             format!("{err:#}").contains("allowed: `tumble-snapshot-1`"),
             "{err:#}"
         );
+    }
+
+    #[test]
+    fn the_event_log_keeps_the_last_events_and_counts_them_all() {
+        // falling_circles: circles land on the pyramid, contacts begin, hit and end.
+        let mut sim = Sim::load("falling_circles", 1).unwrap();
+        steps(&mut sim, 240);
+        let log = &sim.events;
+        assert!(log.counts[0] > 0 && log.counts[2] > 0, "{:?}", log.counts);
+        let total: u64 = log.counts.iter().sum();
+        assert!(total as usize > EventLog::CAPACITY);
+        assert_eq!(log.entries.len(), EventLog::CAPACITY);
+        // Oldest first, by step; the last is from the last step or before.
+        assert!(
+            log.entries
+                .iter()
+                .zip(log.entries.iter().skip(1))
+                .all(|(a, b)| a.0 <= b.0)
+        );
+        assert!(log.entries.back().unwrap().0 <= sim.steps);
+        // Each is what the world reported: the last step's events end the log.
+        let last: Vec<_> = sim.world.events().to_vec();
+        let tail: Vec<_> = log
+            .entries
+            .iter()
+            .rev()
+            .take(last.len())
+            .rev()
+            .map(|(_, e)| *e)
+            .collect();
+        assert_eq!(tail, last);
+        sim.restart();
+        assert!(sim.events.entries.is_empty() && sim.events.counts == [0; 5]);
     }
 }

@@ -329,6 +329,12 @@ impl Instances {
                     color
                 }
             };
+            // A sensor pushes nothing: drawn see-through, over what it detects.
+            let color = if view.sensor {
+                [color[0], color[1], color[2], color[3] * 0.3]
+            } else {
+                color
+            };
             let center = view.transform.p.to_array();
             let rotation = [view.transform.q.c, view.transform.q.s];
             match view.shape {
@@ -364,6 +370,20 @@ impl Instances {
                     let (a, b) = (chain.segment.point1, chain.segment.point2);
                     self.line(view.transform.apply(a), view.transform.apply(b), color);
                 }
+            }
+        }
+    }
+
+    /// A white cross on each bullet's centre, so that the bodies swept against moving ones
+    /// too stand out.
+    pub fn add_bullets(&mut self, world: &World, camera: &Camera) {
+        let half = 5.0 / camera.pixels_per_metre;
+        for i in 0..world.body_count() {
+            if world.is_body(i) && world.is_bullet(i) {
+                let p = world.body(i).position;
+                let c = [1.0, 1.0, 1.0, 0.95];
+                self.line(p - Vec2::new(half, half), p + Vec2::new(half, half), c);
+                self.line(p - Vec2::new(half, -half), p + Vec2::new(half, -half), c);
             }
         }
     }
@@ -581,6 +601,25 @@ impl Instances {
         }
     }
 
+    /// The ray tool's ray from `from` to `to`, each shape it passes marked where it enters,
+    /// with its normal there (30 px), the nearest hit in another colour.
+    pub fn add_ray(&mut self, world: &World, from: Vec2, to: Vec2, camera: &Camera) {
+        let ray = [1.0, 0.9, 0.3, 0.9];
+        self.line(from, to, ray);
+        let px = 1.0 / camera.pixels_per_metre;
+        self.marker(from, 3.0 * px, ray);
+        let hits = world.cast_ray_all(from, to - from, &tumble_physics::QueryFilter::default());
+        for (k, hit) in hits.iter().enumerate() {
+            let c = if k == 0 {
+                [1.0, 0.35, 0.35, 1.0]
+            } else {
+                [1.0, 0.75, 0.4, 0.9]
+            };
+            self.marker(hit.point, 4.0 * px, c);
+            self.line(hit.point, hit.point + hit.normal * (30.0 * px), c);
+        }
+    }
+
     /// The held body's spring: a line from its anchor to the pointer.
     pub fn add_drag(&mut self, world: &World, drag: &crate::sim::Drag, camera: &Camera) {
         if drag.body >= world.body_count() || !world.is_body(drag.body) {
@@ -641,6 +680,55 @@ mod tests {
                 .angle(0.7),
         );
         crate::sim::build_world(&scene).unwrap()
+    }
+
+    #[test]
+    fn sensors_are_see_through_bullets_are_crossed_and_a_ray_marks_its_hits() {
+        // A body with a solid box and a sensor disc, a bullet ball, and a static wall.
+        let mut scene = tumble_physics::SceneDef::new("marks");
+        scene.push(tumble_physics::BodyDef::compound(vec![
+            tumble_physics::PartDef::new(tumble_physics::ShapeDef::Box {
+                half_extents: [0.5, 0.5],
+                radius: 0.0,
+            }),
+            tumble_physics::PartDef::new(tumble_physics::ShapeDef::Circle { radius: 2.0 })
+                .sensor(true),
+        ]));
+        scene.push(
+            tumble_physics::BodyDef::new(tumble_physics::ShapeDef::Circle { radius: 0.2 })
+                .at(5.0, 0.0)
+                .bullet(true),
+        );
+        scene.push(
+            tumble_physics::BodyDef::new(tumble_physics::ShapeDef::Box {
+                half_extents: [0.25, 3.0],
+                radius: 0.0,
+            })
+            .kind(BodyKind::Static)
+            .at(10.0, 0.0),
+        );
+        let world = crate::sim::build_world(&scene).unwrap();
+        let mut inst = Instances::default();
+        inst.add_bodies(&world, Coloring::Id, 0.0);
+        let sensor = inst.circles.iter().find(|c| c.radius == 2.0).unwrap();
+        let solid = &inst.polygons[0];
+        assert_eq!(solid.color[3], 1.0);
+        assert!((sensor.color[3] - 0.3).abs() < 1e-6, "{:?}", sensor.color);
+        // One cross (two lines, four vertices) on the one bullet.
+        let camera = Camera::new(Vec2::ZERO, 20.0, Vec2::new(800.0, 600.0));
+        let before = inst.lines.len();
+        inst.add_bullets(&world, &camera);
+        assert_eq!(inst.lines.len() - before, 4);
+        // A ray along y = 0.1 from the left: the box, the ball and the wall (the sensor is
+        // not hit), each marked and given its normal, after the ray and its start marker.
+        let before = inst.lines.len();
+        inst.add_ray(&world, Vec2::new(-5.0, 0.1), Vec2::new(15.0, 0.1), &camera);
+        let marker = {
+            let mut m = Instances::default();
+            m.marker(Vec2::ZERO, 1.0, [1.0; 4]);
+            m.lines.len()
+        };
+        assert_eq!(inst.lines.len() - before, 2 + marker + 3 * (marker + 2));
     }
 
     #[test]

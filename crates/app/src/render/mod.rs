@@ -189,12 +189,16 @@ impl SceneRenderer {
                 Coloring::Id
             };
             self.instances.add_bodies(world, coloring, view.dim);
+            self.instances.add_bullets(world, &camera);
             self.instances
                 .add_joints(world, debug.joint_forces && view.debug, &camera);
             if view.debug {
                 self.instances.add_debug(world, debug, &camera);
                 if let Some(drag) = &view.sim.drag {
                     self.instances.add_drag(world, drag, &camera);
+                }
+                if let Some((from, to)) = view.sim.ray {
+                    self.instances.add_ray(world, from, to, &camera);
                 }
             }
         }

@@ -25,7 +25,7 @@ use crate::ui::Notices;
 pub use intro::Intro;
 pub use main_menu::MainMenu;
 pub use paused::Paused;
-pub use simulation::Simulation;
+pub use simulation::{Simulation, Tool};
 
 /// Which state a state is (for titles, tests and stats).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -35,6 +35,22 @@ pub struct Simulation {
     pub(crate) error: Option<String>,
     /// The world saved by Save snapshot (natively also in [`SNAPSHOT_FILE`]).
     pub(crate) saved: Option<SavedWorld>,
+    /// What a left drag does.
+    pub(crate) tool: Tool,
+    /// A ray is being dragged out (the ray tool, left button held).
+    pub(crate) casting: bool,
+    /// Which kinds of event the event log lists (as [`crate::sim::EventLog::kind`] numbers
+    /// them).
+    pub(crate) event_filter: [bool; 5],
+}
+
+/// What a left drag does in the simulation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Tool {
+    /// Pull a body on the mouse joint.
+    Grab,
+    /// Drag out a ray; its hits and normals are drawn.
+    Ray,
 }
 
 /// Where Save snapshot writes natively (in the working directory, beside screenshots) and
@@ -54,6 +70,9 @@ impl Simulation {
             entries: super::main_menu::scene_entries(),
             error: None,
             saved: None,
+            tool: Tool::Grab,
+            casting: false,
+            event_filter: [true; 5],
         }
     }
 
@@ -208,9 +227,21 @@ impl State for Simulation {
                 match button {
                     Button::Left if pressed => {
                         let point = self.camera.screen_to_world(position);
-                        self.sim.grab(point);
+                        match self.tool {
+                            Tool::Grab => {
+                                self.sim.grab(point);
+                            }
+                            Tool::Ray => {
+                                self.sim.ray = Some((point, point));
+                                self.casting = true;
+                            }
+                        }
                     }
-                    Button::Left => self.sim.drag = None,
+                    Button::Left => {
+                        self.sim.drag = None;
+                        // The ray stays drawn (its hits follow the world) until the next.
+                        self.casting = false;
+                    }
                     Button::Right | Button::Middle => self.panning = pressed,
                     Button::Other => {}
                 }
@@ -222,6 +253,9 @@ impl State for Simulation {
                 }
                 if let Some(drag) = &mut self.sim.drag {
                     drag.target = self.camera.screen_to_world(position);
+                }
+                if let (true, Some(ray)) = (self.casting, &mut self.sim.ray) {
+                    ray.1 = self.camera.screen_to_world(position);
                 }
             }
             InputEvent::Wheel { lines, position } => {

@@ -371,3 +371,52 @@ fn a_panicking_state_gives_the_menu_and_a_message_not_a_dead_app() {
     assert_eq!(sh.notices.crash.as_deref(), Some("a bug in the UI"));
     assert_eq!(sh.notices.crashes, 2);
 }
+
+#[test]
+fn the_ray_tool_drags_out_a_ray_and_grabs_nothing() {
+    let mut sh = shared();
+    let sim = crate::sim::Sim::load("pyramid", 1).unwrap();
+    let mut st = Simulation::new(sim, &sh);
+    st.update(0.0, &mut sh); // frames the scene
+    st.tool = Tool::Ray;
+    // Across the pyramid's bottom row.
+    let (a, b) = (Vec2::new(-25.0, 0.5), Vec2::new(25.0, 0.5));
+    let camera = st.camera;
+    let button = |pressed: bool, p: Vec2| InputEvent::Button {
+        button: Button::Left,
+        pressed,
+        position: camera.world_to_screen(p),
+    };
+    let (down, up) = (button(true, a), button(false, b));
+    let moved = InputEvent::PointerMoved {
+        position: camera.world_to_screen(b),
+        delta: Vec2::ZERO,
+    };
+    st.on_input(&down, &mut sh);
+    assert!(st.sim.drag.is_none(), "the ray tool grabbed a body");
+    st.on_input(&moved, &mut sh);
+    st.on_input(&up, &mut sh);
+    let (from, to) = st.sim.ray.expect("a ray");
+    // Screen pixels and back: within a thousandth of a metre.
+    assert!(
+        (from - a).length() < 1e-3 && (to - b).length() < 1e-3,
+        "{from} {to}"
+    );
+    let hits = st
+        .sim
+        .world
+        .cast_ray_all(from, to - from, &Default::default());
+    assert_eq!(hits.len(), 20, "the 20-box bottom row");
+    // The pointer moving after the release leaves the ray as it is.
+    let later = InputEvent::PointerMoved {
+        position: Vec2::new(1.0, 1.0),
+        delta: Vec2::ZERO,
+    };
+    st.on_input(&later, &mut sh);
+    assert_eq!(st.sim.ray, Some((from, to)));
+    // Back to grabbing: a press grabs again.
+    st.tool = Tool::Grab;
+    let body = st.sim.world.body(1).position;
+    st.on_input(&button(true, body), &mut sh);
+    assert!(st.sim.drag.is_some());
+}

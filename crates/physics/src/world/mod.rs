@@ -74,6 +74,8 @@ pub struct BodyView {
     pub kind: BodyKind,
     /// Whether it is awake (static bodies never are; kinematic bodies always are).
     pub awake: bool,
+    /// Whether it is a bullet (swept against moving bodies too; see [`World::set_bullet`]).
+    pub bullet: bool,
 }
 
 /// A shape as the outside sees it (for drawing and queries).

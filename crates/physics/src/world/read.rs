@@ -117,7 +117,13 @@ impl World {
             angular_velocity: st.w,
             kind: sim.kind,
             awake: self.awake[index],
+            bullet: self.records[index].bullet,
         }
+    }
+
+    /// Whether the body in slot `index` is a bullet (a cheap read of [`BodyView::bullet`]).
+    pub fn is_bullet(&self, index: usize) -> bool {
+        self.records[index].bullet
     }
 
     /// A body's state by id, or why not.

@@ -7,7 +7,7 @@ use egui::{Color32, RichText};
 use glam::Vec2;
 use tumble_physics::{StepSettings, World};
 
-use crate::state::{MainMenu, Shared, Simulation, Transition};
+use crate::state::{MainMenu, Shared, Simulation, Tool, Transition};
 
 /// The simulation's whole UI; records the part of the window the panels leave free.
 pub fn simulation_ui(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared) -> Transition {
@@ -200,6 +200,12 @@ fn controls(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared, out: &m
     replay_ui(ui, st, shared);
 
     ui.separator();
+    tools_ui(ui, st);
+
+    ui.separator();
+    events_ui(ui, st);
+
+    ui.separator();
     ui.label(RichText::new("Debug drawing").strong());
     let d = &mut shared.settings.debug;
     ui.columns(2, |c| {
@@ -309,6 +315,104 @@ fn controls(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared, out: &m
             *out = Transition::Reset(Box::new(MainMenu::new(None)));
         }
     });
+}
+
+/// What a left drag does, and what the ray tool's ray hits.
+fn tools_ui(ui: &mut egui::Ui, st: &mut Simulation) {
+    ui.horizontal(|ui| {
+        ui.label(RichText::new("Left drag").strong());
+        ui.radio_value(&mut st.tool, Tool::Grab, "pulls a body");
+        ui.radio_value(&mut st.tool, Tool::Ray, "casts a ray")
+            .on_hover_text(
+                "Drag out a ray: every shape it passes is marked where it enters, with its \
+                 normal; the nearest in red.",
+            );
+    });
+    if st.tool != Tool::Ray {
+        return;
+    }
+    let Some((from, to)) = st.sim.ray else {
+        ui.label("Drag in the world to cast a ray.");
+        return;
+    };
+    let hits = st
+        .sim
+        .world
+        .cast_ray_all(from, to - from, &tumble_physics::QueryFilter::default());
+    match hits.first() {
+        Some(hit) => {
+            ui.label(
+                RichText::new(format!(
+                    "{} hits; nearest: body {} (part {}) at ({:.2}, {:.2}), {:.0}% along, \
+                     normal ({:.2}, {:.2})",
+                    hits.len(),
+                    hit.shape.body.index,
+                    hit.shape.part,
+                    hit.point.x,
+                    hit.point.y,
+                    100.0 * hit.fraction,
+                    hit.normal.x,
+                    hit.normal.y
+                ))
+                .monospace(),
+            );
+        }
+        None => {
+            ui.label("The ray hits nothing.");
+        }
+    }
+    if ui.button("Clear the ray").clicked() {
+        st.sim.ray = None;
+    }
+}
+
+/// The event log: counts since the scene started, and the last events of the kinds ticked,
+/// newest first.
+fn events_ui(ui: &mut egui::Ui, st: &mut Simulation) {
+    const KINDS: [&str; 5] = ["begin", "end", "hit", "sensor in", "sensor out"];
+    egui::CollapsingHeader::new(RichText::new("Events").strong())
+        .id_salt("events")
+        .show(ui, |ui| {
+            let counts = st.sim.events.counts;
+            ui.horizontal_wrapped(|ui| {
+                for (k, name) in KINDS.iter().enumerate() {
+                    ui.checkbox(&mut st.event_filter[k], format!("{name} {}", counts[k]));
+                }
+            });
+            egui::ScrollArea::vertical()
+                .id_salt("event-log")
+                .max_height(160.0)
+                .show(ui, |ui| {
+                    let shown = st
+                        .sim
+                        .events
+                        .entries
+                        .iter()
+                        .rev()
+                        .filter(|(_, e)| st.event_filter[crate::sim::EventLog::kind(e)])
+                        .take(60);
+                    for (step, event) in shown {
+                        ui.label(RichText::new(event_line(*step, event)).monospace());
+                    }
+                });
+        });
+}
+
+/// One line of the event log.
+fn event_line(step: u64, event: &tumble_physics::Event) -> String {
+    let [a, b] = event.shapes();
+    let mut line = format!(
+        "{step:>6} {:<13} {}.{} {}.{}",
+        event.name(),
+        a.body.index,
+        a.part,
+        b.body.index,
+        b.part
+    );
+    if let tumble_physics::Event::Hit { approach_speed, .. } = event {
+        line.push_str(&format!(" {approach_speed:.1} m/s"));
+    }
+    line
 }
 
 /// Replay of the last seconds, and save / load of the whole world.
