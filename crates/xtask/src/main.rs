@@ -16,11 +16,12 @@ use std::time::Instant;
 const USAGE_HEAD: &str = "usage: cargo xtask TASK [ARGS]
 
 tasks:
-  test    cargo fmt --check, cargo clippy -D warnings, cargo test, the physics examples,
-          the viewer's offscreen rendering test, the viewer in a real window under Xvfb,
-          the web build in chromium, and the peer comparison tests: every check CI runs
-          (installs the rustfmt and clippy components, the web build's tools and the
-          Debian packages the steps need when they are missing)";
+  test    cargo fmt --check, cargo clippy -D warnings, cargo test, cargo package of the
+          physics library and its examples, the viewer's offscreen rendering test, the
+          viewer in a real window under Xvfb, the web build in chromium, and the peer
+          comparison tests: every check CI runs (installs the rustfmt and clippy
+          components, the web build's tools and the Debian packages the steps need when
+          they are missing)";
 
 fn usage() -> String {
     format!("{USAGE_HEAD}\n{}\n{}", web::USAGE, fuzz::USAGE)
@@ -187,6 +188,14 @@ fn test_steps() -> Vec<Step> {
             debian_packages: &[],
             components: &[],
             action: Action::Cargo(&["test", "--workspace", "--exclude", "tumble", "-j2"]),
+        },
+        Step {
+            // The physics library packages as a crate of its own (its manifest, docs and
+            // examples; the packaged copy builds on its own).
+            name: "package",
+            debian_packages: &[],
+            components: &[],
+            action: Action::Cargo(&["package", "-p", "tumble-physics", "--allow-dirty", "-j2"]),
         },
         Step {
             name: "examples",
