@@ -223,7 +223,7 @@ mod tests {
             half_extents: [0.02, 0.5],
             radius: 0.0,
         })
-        .spin(30.0);
+        .spin(60.0);
         for (name, body) in [("capsule", capsule), ("plate", plate)] {
             let (mut w, b) = shot(body.clone(), 300.0, false);
             let (centre, _) = centre_and_end(&mut w, b, 60);

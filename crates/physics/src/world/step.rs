@@ -19,7 +19,7 @@ use web_time::Instant;
 use super::{BodySim, Contact, ContactCache, ContactKey, ShapeRecord, World, pair_key};
 use crate::SPECULATIVE_DISTANCE;
 use crate::collision::{Manifold, collide};
-use crate::math::Transform;
+use crate::math::{Transform, cross_sv, dot};
 use crate::parallel::{SharedSlice, Spread, for_each_part, for_parts};
 use crate::profile::StepProfile;
 use crate::scene::BodyKind;
@@ -439,6 +439,24 @@ impl World {
                     p.persisted = true;
                 }
             }
+            // The margin above bounds how fast any point of the pair can close; each point
+            // is kept only if its own gap can close in this step: within the speculative
+            // distance, or approaching along the normal fast enough (at the bodies' present
+            // velocities) to cross the rest. A point farther and not closing could not push
+            // this step (Box2D keeps a point only within the speculative distance, and sweeps
+            // what is faster): a turning drum's rim, fast along its surface but not towards
+            // it, then makes no speculative points for every body near it.
+            let mut kept = 0;
+            for k in 0..m.count {
+                let p = m.points[k];
+                let dv = (vb.v + cross_sv(vb.w, p.anchor_b)) - (va.v + cross_sv(va.w, p.anchor_a));
+                let approach = dot(dv, m.normal).min(0.0);
+                if p.separation + dt * approach <= SPECULATIVE_DISTANCE {
+                    m.points[kept] = p;
+                    kept += 1;
+                }
+            }
+            m.count = kept;
             c.manifold = m;
             key.touching = m.count > 0;
             (0, usize::from(key.touching != was))
