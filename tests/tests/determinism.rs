@@ -2,8 +2,8 @@
 //! the thread count changed mid-run, ends in bit-identical states.
 
 use tumble_physics::{
-    BodyDef, BodyKind, Event, JointDef, PartDef, SceneDef, ShapeDef, StepSettings, WideThresholds,
-    World,
+    BodyDef, BodyKind, Event, EventCursor, JointDef, PartDef, SceneDef, ShapeDef, StepSettings,
+    WideThresholds, World,
 };
 use tumble_tests::{all_finite, world};
 
@@ -61,22 +61,21 @@ impl Run {
 #[derive(Default)]
 struct EventLog {
     events: Vec<(u64, Event)>,
-    /// How many of the world's current list are read.
-    read: usize,
+    /// What of the world's events is read.
+    cursor: EventCursor,
     /// Bodies continuous collision moved back, summed over the steps read.
     rewound: usize,
 }
 
 impl EventLog {
-    /// Reads what the world made since the last read; `stepped`: a step ran since.
+    /// Reads what the world made since the last read; `stepped`: a step ran since (its
+    /// profile is counted).
     fn read(&mut self, w: &World, stepped: bool) {
         if stepped {
-            self.read = 0;
             self.rewound += w.profile().rewound;
         }
-        let new = &w.events()[self.read..];
+        let new = self.cursor.take(w);
         self.events.extend(new.iter().map(|e| (w.step_count(), *e)));
-        self.read = w.events().len();
     }
 }
 

@@ -17,8 +17,8 @@ use std::sync::Arc;
 use anyhow::{Context, Result};
 use glam::Vec2;
 use tumble_physics::{
-    BodyDef, BodyId, BodyKind, Event, JointId, JointKind, Rot, SceneDef, ShapeDef, StepSettings,
-    World, WorldSnapshot,
+    BodyDef, BodyId, BodyKind, Event, EventCursor, JointId, JointKind, Rot, SceneDef, ShapeDef,
+    StepSettings, World, WorldSnapshot,
 };
 use tumble_scene::LoadLimits;
 use tumble_scene::builtin::Script;
@@ -437,9 +437,8 @@ pub struct EventLog {
     pub entries: VecDeque<(u64, Event)>,
     /// Contact begins, contact ends, hits, sensor begins, sensor ends.
     pub counts: [u64; 5],
-    /// How many of the world's current list are logged (it holds the last step's events and
-    /// those made since).
-    read: usize,
+    /// What of the world's events is logged.
+    cursor: EventCursor,
 }
 
 impl EventLog {
@@ -457,21 +456,15 @@ impl EventLog {
         }
     }
 
-    /// Logs what `world` reported since the last call, as step `step`'s; `stepped`: the world
-    /// stepped since (its list then starts afresh).
-    fn record(&mut self, world: &World, step: u64, stepped: bool) {
-        if stepped {
-            self.read = 0;
-        }
-        let events = world.events();
-        for event in &events[self.read.min(events.len())..] {
+    /// Logs what `world` reported since the last call, as step `step`'s.
+    fn record(&mut self, world: &World, step: u64) {
+        for event in self.cursor.take(world) {
             self.counts[Self::kind(event)] += 1;
             if self.entries.len() == Self::CAPACITY {
                 self.entries.pop_front();
             }
             self.entries.push_back((step, *event));
         }
-        self.read = events.len();
     }
 }
 
@@ -696,12 +689,12 @@ impl Sim {
         };
         if let Some(script) = self.script {
             script(self.steps, &mut self.world);
-            self.events.record(&self.world, self.steps + 1, false);
+            self.events.record(&self.world, self.steps + 1);
         }
         self.mouse = sync_mouse(&mut self.world, self.mouse, input.drag);
         self.world.step(dt, input.substeps);
         self.steps += 1;
-        self.events.record(&self.world, self.steps, true);
+        self.events.record(&self.world, self.steps);
         if replay_ends {
             // Edits made after the last recorded step, before the replay began: the world
             // was showing them then.

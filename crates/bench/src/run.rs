@@ -8,7 +8,7 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use serde::Serialize;
 use serde::ser::SerializeMap;
-use tumble_physics::{Event, Limits, World, default_thread_count};
+use tumble_physics::{Event, EventCursor, Limits, World, default_thread_count};
 use tumble_scene::{DEFAULT_MAX_FILE_BYTES, LoadLimits};
 
 /// Most worker threads a run may ask for; far more than any machine here has cores.
@@ -171,7 +171,6 @@ pub fn run(args: &RunArgs) -> Result<()> {
         }
         world.step(scene.dt, scene.substeps);
         if let Some(file) = &mut events {
-            file.written = 0;
             file.write_new(&world, k)?;
         }
         let profile = world.profile();
@@ -291,8 +290,8 @@ fn write_json(w: impl Write, report: &Report) -> std::io::Result<()> {
 struct EventFile {
     path: PathBuf,
     out: BufWriter<File>,
-    /// How many of `World::events` are written (it holds the last step's and those since).
-    written: usize,
+    /// What of `World::events` is written.
+    cursor: EventCursor,
 }
 
 /// One line of the event file; field order is the contract's.
@@ -346,20 +345,18 @@ impl EventFile {
         Ok(EventFile {
             path: path.clone(),
             out: BufWriter::new(file),
-            written: 0,
+            cursor: EventCursor::default(),
         })
     }
 
     /// Writes the world's events not yet written, as step `step`'s.
     fn write_new(&mut self, world: &World, step: u64) -> Result<()> {
-        let events = world.events();
-        for event in &events[self.written.min(events.len())..] {
+        for event in self.cursor.take(world) {
             serde_json::to_writer(&mut self.out, &EventLine::of(step, event))
                 .map_err(std::io::Error::from)
                 .and_then(|()| self.out.write_all(b"\n"))
                 .with_context(|| format!("cannot write the events file {}", self.path.display()))?;
         }
-        self.written = events.len();
         Ok(())
     }
 

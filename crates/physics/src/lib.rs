@@ -94,9 +94,9 @@ pub use shape::{
     Aabb, Capsule, ChainSegment, Circle, MassData, Polygon, Segment, Shape, chain_segments,
 };
 pub use world::{
-    BodyMove, BodyView, ContactView, Event, QueryFilter, RayHit, ShapeRef, ShapeView, SpawnWorker,
-    StepSettings, WideThresholds, World, WorldError, WorldSnapshot, default_thread_count,
-    set_thread_source,
+    BodyMove, BodyView, ContactView, Event, EventCursor, QueryFilter, RayHit, ShapeRef, ShapeView,
+    SpawnWorker, StepSettings, WideThresholds, World, WorldError, WorldSnapshot,
+    default_thread_count, set_thread_source,
 };
 
 /// Length tolerance used by collision (Box2D's `B2_LINEAR_SLOP`, 5 mm).

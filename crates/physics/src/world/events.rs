@@ -117,6 +117,32 @@ pub struct BodyMove {
     pub fell_asleep: bool,
 }
 
+/// Reads each of a world's events once: [`World::events`] holds the last step's events and
+/// those made since (a body destroyed between steps ends its contacts at once), so a caller
+/// that reads after each step and after its own changes would see some twice. The cursor
+/// knows a step cleared the list by the world's step count.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct EventCursor {
+    /// The world's step count at the last read.
+    step: u64,
+    /// How many of its events were read then.
+    read: usize,
+}
+
+impl EventCursor {
+    /// The events `world` reported since this cursor last read it (all of them after a step).
+    pub fn take<'w>(&mut self, world: &'w World) -> &'w [Event] {
+        if world.step_count() != self.step {
+            self.step = world.step_count();
+            self.read = 0;
+        }
+        let events = world.events();
+        let new = &events[self.read.min(events.len())..];
+        self.read = events.len();
+        new
+    }
+}
+
 /// What the world keeps for its events.
 #[derive(Clone, Debug, Default)]
 pub(super) struct EventLog {

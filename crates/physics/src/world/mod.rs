@@ -44,7 +44,7 @@ use crate::solver::{
     BodyMotion, ContactInput, NOT_DYNAMIC, Solver, SolverBody, SolverContact, Touching,
 };
 
-pub use events::{BodyMove, Event, ShapeRef};
+pub use events::{BodyMove, Event, EventCursor, ShapeRef};
 pub use query::{QueryFilter, RayHit};
 pub use settings::{StepSettings, WideThresholds};
 pub use snapshot::WorldSnapshot;

@@ -11,7 +11,7 @@ use glam::Vec2;
 
 use super::World;
 use super::events::ShapeRef;
-use crate::collision::broad_phase::ray_may_cross;
+use crate::collision::broad_phase::{BroadPhase, ray_may_cross};
 use crate::collision::distance::{Impact, Proxy, Sweep, distance, time_of_impact};
 use crate::collision::{Ray, collide, ray_cast};
 use crate::math::Transform;
@@ -113,29 +113,35 @@ impl World {
         mut f: impl FnMut(u32) -> bool,
     ) {
         let mut going = true;
-        if self.tree_holds_every_proxy() {
-            self.broad_phase.query(aabb, &self.fat_aabbs, |s| {
+        for s in self.untreed_after_tree(|tree| {
+            tree.query(aabb, &self.fat_aabbs, |s| {
                 if going && !self.moved_flags[s as usize] && self.seen(s, filter) {
                     going = f(s);
                 }
             });
-            for &s in &self.moved {
-                if !going {
-                    return;
-                }
-                if self.fat_aabbs[s as usize].overlaps(aabb) && self.seen(s, filter) {
-                    going = f(s);
-                }
+        }) {
+            if !going {
+                return;
             }
+            if self.fat_aabbs[s as usize].overlaps(aabb) && self.seen(s, filter) {
+                going = f(s);
+            }
+        }
+    }
+
+    /// Walks the tree with `walk` when it holds every proxy, then gives the proxies a query
+    /// must test one by one: those moved since the tree's refit (`walk` skips them), or every
+    /// shape slot when shapes were added or removed since it was built (and `walk` is not
+    /// called).
+    fn untreed_after_tree(
+        &self,
+        walk: impl FnOnce(&BroadPhase),
+    ) -> Box<dyn Iterator<Item = u32> + '_> {
+        if self.tree_holds_every_proxy() {
+            walk(&self.broad_phase);
+            Box::new(self.moved.iter().copied())
         } else {
-            for s in 0..self.shapes.len() as u32 {
-                if !going {
-                    return;
-                }
-                if self.seen(s, filter) && self.fat_aabbs[s as usize].overlaps(aabb) {
-                    going = f(s);
-                }
-            }
+            Box::new(0..self.shapes.len() as u32)
         }
     }
 
@@ -181,9 +187,9 @@ impl World {
             }
         };
         let mut max_fraction = 1.0f32;
-        if self.tree_holds_every_proxy() {
+        let rest = self.untreed_after_tree(|tree| {
             let moved = &self.moved_flags;
-            self.broad_phase.ray_cast(
+            tree.ray_cast(
                 &self.fat_aabbs,
                 origin,
                 translation,
@@ -196,32 +202,18 @@ impl World {
                     max_fraction
                 },
             );
-            for &s in &self.moved {
-                if max_fraction <= 0.0 {
-                    return;
-                }
-                if ray_may_cross(
-                    &self.fat_aabbs[s as usize],
-                    origin,
-                    translation,
-                    max_fraction,
-                ) {
-                    max_fraction = visit(s, max_fraction);
-                }
+        });
+        for s in rest {
+            if max_fraction <= 0.0 {
+                return;
             }
-        } else {
-            for s in 0..self.shapes.len() as u32 {
-                if max_fraction <= 0.0 {
-                    return;
-                }
-                if ray_may_cross(
-                    &self.fat_aabbs[s as usize],
-                    origin,
-                    translation,
-                    max_fraction,
-                ) {
-                    max_fraction = visit(s, max_fraction);
-                }
+            if ray_may_cross(
+                &self.fat_aabbs[s as usize],
+                origin,
+                translation,
+                max_fraction,
+            ) {
+                max_fraction = visit(s, max_fraction);
             }
         }
     }
