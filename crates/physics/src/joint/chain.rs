@@ -89,15 +89,6 @@ pub fn eligible(joint: &Joint) -> bool {
         if r.limit.is_none() && r.motor.is_none() && r.spring.is_none())
 }
 
-/// The side of `body` in a joint (+1 as its B, −1 as its A) and its anchor there, current.
-fn side(j: &Joint, p: &Pair, body: u32) -> (f32, Vec2) {
-    if j.body_b == body {
-        (1.0, p.dqb.apply(j.step.frame_b.p))
-    } else {
-        (-1.0, p.dqa.apply(j.step.frame_a.p))
-    }
-}
-
 /// The inverse mass and inertia of `body` in joint `j`.
 fn masses(s: &JointStep, j: &Joint, body: u32) -> (f32, f32) {
     if j.body_b == body {
@@ -145,13 +136,25 @@ pub struct Row {
     rhs: Vec2,
     /// The solution: the point impulse before softening.
     x: Vec2,
+    /// The current anchors on A and B.
+    ra: Vec2,
+    rb: Vec2,
+    /// Whether the body shared with the joint before is this joint's B (else its A).
+    prev_b: bool,
+    /// Whether the body shared with the joint after is this joint's B.
+    next_b: bool,
+    /// The bodies' state as loaded, before this pass's impulses.
     pair: Pair,
 }
 
 fn solve_rows(joints: &mut [Joint], states: &BodyStates<'_>, bias: bool, rows: &mut [Row]) {
     let n = joints.len();
-    // Each joint's rows: K_ii, the right-hand side Cdot + bias, and its pair's state.
-    for (j, row) in joints.iter().zip(rows.iter_mut()) {
+    // One forward sweep: each joint's row (K_ii and the right-hand side Cdot + bias), its
+    // coupling to the joint before, and the elimination step. One loop, not three, so that
+    // the next rows are built while an elimination step waits on its division (the
+    // elimination is a chain of dependent 2×2 inverses, latency-bound on its own).
+    for i in 0..n {
+        let j = &joints[i];
         let p = j.load(states);
         let (ra, rb, d) = super::anchors(&j.step, &p);
         let b = if bias {
@@ -159,35 +162,42 @@ fn solve_rows(joints: &mut [Joint], states: &BodyStates<'_>, bias: bool, rows: &
         } else {
             Vec2::ZERO
         };
-        *row = Row {
+        rows[i] = Row {
             diag: M2::sym(super::point_mass(&j.step, ra, rb)),
             inv: M2::default(),
             upper: M2::default(),
             rhs: p.relative_velocity(ra, rb) + b,
             x: Vec2::ZERO,
+            ra,
+            rb,
+            prev_b: false,
+            next_b: false,
             pair: p,
         };
-    }
-    // K_i,i+1 through the shared body s: σ_i σ_i+1 (m_s⁻¹ I + i_s⁻¹ perp(r_i) perp(r_i+1)ᵀ),
-    // where σ is +1 where s is the joint's B and perp(r) = (−r.y, r.x).
-    for i in 0..n.saturating_sub(1) {
-        let (ji, jn) = (&joints[i], &joints[i + 1]);
-        let s = shared(ji, jn);
-        let (si, ri) = side(ji, &rows[i].pair, s);
-        let (sn, rn) = side(jn, &rows[i + 1].pair, s);
-        let (m, inv_i) = masses(&ji.step, ji, s);
+        if i == 0 {
+            rows[0].inv = rows[0].diag.inverse();
+            continue;
+        }
+        // K_i−1,i through the shared body s: σ_i−1 σ_i (m_s⁻¹ I + i_s⁻¹ perp(r_i−1) perp(r_i)ᵀ),
+        // where σ is +1 where s is the joint's B and perp(r) = (−r.y, r.x).
+        let before = &joints[i - 1];
+        let s = shared(before, j);
+        let (prev_b, this_b) = (before.body_b == s, j.body_b == s);
+        let side = |row: &Row, b: bool| if b { (1.0, row.rb) } else { (-1.0, row.ra) };
+        let (si, ri) = side(&rows[i - 1], prev_b);
+        let (sn, rn) = side(&rows[i], this_b);
+        let (m, inv_i) = masses(&before.step, before, s);
         let (ui, un) = (Vec2::new(-ri.y, ri.x), Vec2::new(-rn.y, rn.x));
         let sign = si * sn;
-        rows[i].upper = M2 {
+        rows[i - 1].upper = M2 {
             a: sign * (m + inv_i * ui.x * un.x),
             b: sign * (inv_i * ui.y * un.x),
             c: sign * (inv_i * ui.x * un.y),
             d: sign * (m + inv_i * ui.y * un.y),
         };
-    }
-    // Block LU, forward: D'_i = D_i − U_i−1ᵀ D'_i−1⁻¹ U_i−1, y_i = b_i − U_i−1ᵀ D'_i−1⁻¹ y_i−1.
-    rows[0].inv = rows[0].diag.inverse();
-    for i in 1..n {
+        rows[i - 1].next_b = prev_b;
+        rows[i].prev_b = this_b;
+        // Block LU, forward: D'_i = D_i − U_i−1ᵀ D'_i−1⁻¹ U_i−1, y_i = b_i − U_i−1ᵀ D'_i−1⁻¹ y_i−1.
         let (prev, row) = (rows[i - 1], &mut rows[i]);
         let l = prev.upper.transpose().mul(prev.inv);
         row.diag = row.diag.sub(l.mul(prev.upper));
@@ -201,8 +211,12 @@ fn solve_rows(joints: &mut [Joint], states: &BodyStates<'_>, bias: bool, rows: &
         let row = &mut rows[i];
         row.x = row.inv.mul_v(row.rhs - row.upper.mul_v(next));
     }
-    // The impulses, applied joint by joint to the bodies' current velocities (additive: the
-    // order changes no more than rounding).
+    // The impulses, applied joint by joint in path order to the bodies' current velocities
+    // (additive: the order changes no more than rounding). A joint's body shared with the
+    // joint before has that joint's impulse, carried over; its other body is as loaded
+    // (nothing else moves it during the chain's pass): the same sums as loading each joint
+    // again, without the loads.
+    let mut carried: Option<(Vec2, f32)> = None;
     for (j, row) in joints.iter_mut().zip(rows.iter()) {
         let (mass_scale, impulse_scale) = if bias {
             (j.step.softness.mass_scale, j.step.softness.impulse_scale)
@@ -214,11 +228,19 @@ fn solve_rows(joints: &mut [Joint], states: &BodyStates<'_>, bias: bool, rows: &
         };
         let impulse = -mass_scale * row.x - impulse_scale * r.linear_impulse;
         r.linear_impulse += impulse;
-        let mut p = j.load(states);
-        let ra = p.dqa.apply(j.step.frame_a.p);
-        let rb = p.dqb.apply(j.step.frame_b.p);
-        p.apply(&j.step, ra, rb, impulse, 0.0);
+        let mut p = row.pair;
+        match carried {
+            Some((v, w)) if row.prev_b => (p.vb, p.wb) = (v, w),
+            Some((v, w)) => (p.va, p.wa) = (v, w),
+            None => {}
+        }
+        p.apply(&j.step, row.ra, row.rb, impulse, 0.0);
         j.store(states, &p);
+        carried = Some(if row.next_b {
+            (p.vb, p.wb)
+        } else {
+            (p.va, p.wa)
+        });
     }
 }
 

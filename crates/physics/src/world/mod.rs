@@ -245,6 +245,9 @@ struct ContactKey {
     touching: bool,
     /// The fat boxes no longer overlap: removed at the end of the narrow phase.
     remove: bool,
+    /// Touching after the last touch update: the contact's own `touched`, kept here too so
+    /// that finding the contacts that began or stopped touching reads no contact.
+    touched: bool,
     /// Neither body is awake: the narrow phase leaves it as it is.
     frozen: bool,
     /// A dynamic body of it sleeps: the solver leaves it out.
@@ -262,6 +265,7 @@ impl ContactKey {
         ContactKey {
             dynamic: [side(c.body_a, &c.masses[0]), side(c.body_b, &c.masses[1])],
             touching: c.manifold.count > 0,
+            touched: c.touched,
             remove: false,
             frozen: !(awake[a] || awake[b]),
             sleeping: (c.masses[0].dynamic && !awake[a]) || (c.masses[1].dynamic && !awake[b]),

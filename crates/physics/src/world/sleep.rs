@@ -30,12 +30,13 @@ impl World {
         }
         let mut woke = false;
         for k in 0..self.contacts.len() {
-            let key = self.contact_keys[k];
-            let c = &mut self.contacts[k];
+            let key = &mut self.contact_keys[k];
             let now = key.touching && !key.remove;
-            if now == c.touched {
+            if now == key.touched {
                 continue;
             }
+            key.touched = now;
+            let c = &mut self.contacts[k];
             c.touched = now;
             c.hit_pending = now;
             let (a, b) = (c.body_a, c.body_b);

@@ -394,7 +394,7 @@ impl World {
             // Whether it touched after the last narrow phase: the key says so as the contact
             // does (`World::validate` checks it), without reading the contact's last line.
             let was = key.touching;
-            debug_assert_eq!(was, c.touched);
+            debug_assert_eq!(was, key.touched);
             if recycling && recycle(c, &sims[a], &sims[b]) {
                 key.touching = c.manifold.count > 0;
                 return (1, usize::from(key.touching != was));

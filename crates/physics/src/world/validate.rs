@@ -168,7 +168,10 @@ impl World {
             if untested && !overlap {
                 return Err(format!("contact {k}'s boxes parted untested"));
             }
-            if key.touching != (c.manifold.count > 0) || c.touched != key.touching {
+            if key.touching != (c.manifold.count > 0)
+                || c.touched != key.touching
+                || key.touched != c.touched
+            {
                 return Err(format!("contact {k}'s touching flags disagree"));
             }
             if c.touched && c.masses[0].dynamic && c.masses[1].dynamic {
