@@ -69,16 +69,27 @@ impl M2 {
             d: self.d,
         }
     }
-    /// The inverse, or zero where singular (a row no body can move along).
-    fn inverse(self) -> M2 {
-        let det = self.a * self.d - self.b * self.c;
-        let inv = if det != 0.0 { 1.0 / det } else { 0.0 };
+    fn scale(self, k: f32) -> M2 {
         M2 {
-            a: inv * self.d,
-            b: -inv * self.b,
-            c: -inv * self.c,
-            d: inv * self.a,
+            a: k * self.a,
+            b: k * self.b,
+            c: k * self.c,
+            d: k * self.d,
         }
+    }
+    /// The adjugate: the inverse times the determinant.
+    fn adjugate(self) -> M2 {
+        M2 {
+            a: self.d,
+            b: -self.b,
+            c: -self.c,
+            d: self.a,
+        }
+    }
+    /// 1 / the determinant, or zero where singular (a row no body can move along).
+    fn inverse_det(self) -> f32 {
+        let det = self.a * self.d - self.b * self.c;
+        if det != 0.0 { 1.0 / det } else { 0.0 }
     }
 }
 
@@ -175,7 +186,6 @@ fn solve_rows(joints: &mut [Joint], states: &BodyStates<'_>, bias: bool, rows: &
             pair: p,
         };
         if i == 0 {
-            rows[0].inv = rows[0].diag.inverse();
             continue;
         }
         // K_i−1,i through the shared body s: σ_i−1 σ_i (m_s⁻¹ I + i_s⁻¹ perp(r_i−1) perp(r_i)ᵀ),
@@ -197,13 +207,22 @@ fn solve_rows(joints: &mut [Joint], states: &BodyStates<'_>, bias: bool, rows: &
         };
         rows[i - 1].next_b = prev_b;
         rows[i].prev_b = this_b;
-        // Block LU, forward: D'_i = D_i − U_i−1ᵀ D'_i−1⁻¹ U_i−1, y_i = b_i − U_i−1ᵀ D'_i−1⁻¹ y_i−1.
-        let (prev, row) = (rows[i - 1], &mut rows[i]);
-        let l = prev.upper.transpose().mul(prev.inv);
-        row.diag = row.diag.sub(l.mul(prev.upper));
-        row.rhs -= l.mul_v(prev.rhs);
-        row.inv = row.diag.inverse();
+        // Block LU, forward: D'_i = D_i − U_i−1ᵀ D'_i−1⁻¹ U_i−1, y_i = b_i − U_i−1ᵀ D'_i−1⁻¹ y_i−1,
+        // with D'⁻¹ = adj(D') / det(D'): the products with the adjugate need not wait for
+        // the division, which runs beside them (a shorter chain of dependent steps).
+        let (prev, row) = (&rows[i - 1], &rows[i]);
+        let inv_det = prev.diag.inverse_det();
+        let l = prev.upper.transpose().mul(prev.diag.adjugate());
+        let diag = row.diag.sub(l.mul(prev.upper).scale(inv_det));
+        let rhs = row.rhs - inv_det * l.mul_v(prev.rhs);
+        rows[i - 1].inv = prev.diag.adjugate().scale(inv_det);
+        rows[i].diag = diag;
+        rows[i].rhs = rhs;
     }
+    rows[n - 1].inv = rows[n - 1]
+        .diag
+        .adjugate()
+        .scale(rows[n - 1].diag.inverse_det());
     // Back: x_n = D'_n⁻¹ y_n, x_i = D'_i⁻¹ (y_i − U_i x_i+1).
     rows[n - 1].x = rows[n - 1].inv.mul_v(rows[n - 1].rhs);
     for i in (0..n - 1).rev() {
