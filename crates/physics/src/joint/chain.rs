@@ -145,8 +145,6 @@ pub struct Row {
     upper: M2,
     /// Cdot + bias, then y_i of the elimination.
     rhs: Vec2,
-    /// The solution: the point impulse before softening.
-    x: Vec2,
     /// The current anchors on A and B.
     ra: Vec2,
     rb: Vec2,
@@ -178,7 +176,6 @@ fn solve_rows(joints: &mut [Joint], states: &BodyStates<'_>, bias: bool, rows: &
             inv: M2::default(),
             upper: M2::default(),
             rhs: p.relative_velocity(ra, rb) + b,
-            x: Vec2::ZERO,
             ra,
             rb,
             prev_b: false,
@@ -223,20 +220,23 @@ fn solve_rows(joints: &mut [Joint], states: &BodyStates<'_>, bias: bool, rows: &
         .diag
         .adjugate()
         .scale(rows[n - 1].diag.inverse_det());
-    // Back: x_n = D'_n⁻¹ y_n, x_i = D'_i⁻¹ (y_i − U_i x_i+1).
-    rows[n - 1].x = rows[n - 1].inv.mul_v(rows[n - 1].rhs);
-    for i in (0..n - 1).rev() {
-        let next = rows[i + 1].x;
-        let row = &mut rows[i];
-        row.x = row.inv.mul_v(row.rhs - row.upper.mul_v(next));
-    }
-    // The impulses, applied joint by joint in path order to the bodies' current velocities
-    // (additive: the order changes no more than rounding). A joint's body shared with the
-    // joint before has that joint's impulse, carried over; its other body is as loaded
-    // (nothing else moves it during the chain's pass): the same sums as loading each joint
-    // again, without the loads.
+    // Back: x_n = D'_n⁻¹ y_n, x_i = D'_i⁻¹ (y_i − U_i x_i+1), and each joint's impulse applied
+    // as soon as it is known, so that the application fills the wait on the next x (a chain
+    // of dependent products). Impulses add, so applying them last to first changes no more
+    // than rounding. A joint's body shared with the joint after it has that joint's impulse,
+    // carried over; its other body is as loaded (nothing else moves the chain's bodies during
+    // its pass): the same sums as loading each joint again, without the loads.
+    let mut next = Vec2::ZERO;
     let mut carried: Option<(Vec2, f32)> = None;
-    for (j, row) in joints.iter_mut().zip(rows.iter()) {
+    for i in (0..n).rev() {
+        let row = &rows[i];
+        let x = if i + 1 < n {
+            row.inv.mul_v(row.rhs - row.upper.mul_v(next))
+        } else {
+            row.inv.mul_v(row.rhs)
+        };
+        next = x;
+        let j = &mut joints[i];
         let (mass_scale, impulse_scale) = if bias {
             (j.step.softness.mass_scale, j.step.softness.impulse_scale)
         } else {
@@ -245,17 +245,17 @@ fn solve_rows(joints: &mut [Joint], states: &BodyStates<'_>, bias: bool, rows: &
         let JointKind::Revolute(r) = &mut j.kind else {
             unreachable!("a chain holds revolute joints only");
         };
-        let impulse = -mass_scale * row.x - impulse_scale * r.linear_impulse;
+        let impulse = -mass_scale * x - impulse_scale * r.linear_impulse;
         r.linear_impulse += impulse;
         let mut p = row.pair;
         match carried {
-            Some((v, w)) if row.prev_b => (p.vb, p.wb) = (v, w),
+            Some((v, w)) if row.next_b => (p.vb, p.wb) = (v, w),
             Some((v, w)) => (p.va, p.wa) = (v, w),
             None => {}
         }
         p.apply(&j.step, row.ra, row.rb, impulse, 0.0);
         j.store(states, &p);
-        carried = Some(if row.next_b {
+        carried = Some(if row.prev_b {
             (p.vb, p.wb)
         } else {
             (p.va, p.wa)
