@@ -331,9 +331,10 @@ impl World {
     /// tree; writes each sensor's overlaps and the sensor events): each sensor's box is
     /// queried in the tree, each candidate tested exactly, and the sorted result compared with
     /// the last step's (Box2D's `b2OverlapSensors`). A sensor detects the shapes of other
-    /// bodies that are not sensors and whose filters let them touch; a segment or chain
-    /// segment, which has no area, detects nothing, and a chain segment is detected from
-    /// either side. A world with no sensor skips this stage.
+    /// bodies that are not sensors and whose filters let them touch, by `shapes_overlap`: a
+    /// segment sensor (a tripwire) detects what crosses it, segments and chain segments too,
+    /// and a chain segment is detected from either side. A world with no sensor skips this
+    /// stage.
     pub(super) fn overlap_sensors(&mut self) {
         if self.sensors.is_empty() {
             return;
@@ -627,6 +628,52 @@ mod world_tests {
                 "step {k}: {y} vs {closed}"
             );
         }
+    }
+
+    #[test]
+    fn a_segment_tripwire_detects_a_segment_it_crosses() {
+        // A kinematic horizontal segment sensor from x = -1 to 1, rising at 1 m/s from
+        // y = -2.01, sweeps across a static vertical segment spanning y in [-0.5, 0.5] at x = 0.
+        // Neither has area: they overlap while they cross (Box2D's sensors test the distance),
+        // from the first step the tripwire is at y ≥ -0.5 (step 91: -2.01 + 91/60 = -0.493)
+        // to the first at y > 0.5 (step 151: 0.507); no step lands within 1e-4 m of an end.
+        let mut w = World::new(StepSettings::default());
+        let wire = w
+            .create_body(
+                &BodyDef::compound(vec![
+                    PartDef::new(ShapeDef::Segment {
+                        point1: [-1.0, 0.0],
+                        point2: [1.0, 0.0],
+                    })
+                    .sensor(true),
+                ])
+                .kind(BodyKind::Kinematic)
+                .at(0.0, -2.01)
+                .velocity(0.0, 1.0),
+            )
+            .unwrap();
+        let post = w
+            .create_body(
+                &BodyDef::new(ShapeDef::Segment {
+                    point1: [0.0, -0.5],
+                    point2: [0.0, 0.5],
+                })
+                .kind(BodyKind::Static),
+            )
+            .unwrap();
+        let mut seen = Vec::new();
+        for k in 1..=200 {
+            for e in step(&mut w) {
+                seen.push((k, e));
+            }
+        }
+        let refs = |e: &Event| e.shapes().map(|r| r.body);
+        assert_eq!(seen.len(), 2, "{seen:?}");
+        assert!(matches!(seen[0].1, Event::SensorBegin { .. }));
+        assert!(matches!(seen[1].1, Event::SensorEnd { .. }));
+        assert_eq!((seen[0].0, seen[1].0), (91, 151));
+        assert_eq!(refs(&seen[0].1), [wire, post]);
+        w.validate().unwrap();
     }
 
     #[test]

@@ -75,9 +75,18 @@ pub struct RayHit {
 }
 
 /// Whether two shapes at these poses overlap (not merely come within a speculative margin):
-/// their manifold with no margin has a point of negative separation. A pair with no manifold
-/// routine (two shapes without area) never overlaps.
+/// their manifold with no margin has a point of negative separation. Two shapes without area
+/// (segments, chain segments), which have no manifold routine, overlap where they cross or
+/// touch: their distance is within `10 f32::EPSILON`, the bound Box2D's sensors use
+/// (`sensor.c`, `b2SensorQueryCallback`).
 pub(super) fn shapes_overlap(a: &Shape, pose_a: Transform, b: &Shape, pose_b: Transform) -> bool {
+    if !a.has_area() && !b.has_area() {
+        let (pa, pb) = (
+            Proxy::of(a, Transform::IDENTITY),
+            Proxy::of(b, Transform::IDENTITY),
+        );
+        return distance(&pa, pose_a, &pb, pose_b).distance < 10.0 * f32::EPSILON;
+    }
     // The manifold routines take the shape of higher rank first (see `create_contact`).
     let ((a, pa), (b, pb)) = if a.rank() < b.rank() {
         ((b, pose_b), (a, pose_a))
@@ -394,8 +403,8 @@ impl World {
     }
 
     /// Calls `f` with every shape `filter` sees that overlaps `shape` placed at `pose`, until
-    /// it returns false (Box2D's `b2World_OverlapShape`). Shapes without area (segments,
-    /// chain segments) overlap only shapes with area.
+    /// it returns false (Box2D's `b2World_OverlapShape`). Two shapes without area (segments,
+    /// chain segments) overlap where they cross or touch.
     pub fn overlap_shape(
         &self,
         shape: &Shape,
@@ -649,6 +658,56 @@ mod tests {
                 .map(|u| u.body);
             assert_eq!(w.body_at(p), top);
         }
+    }
+
+    #[test]
+    fn segments_overlap_where_they_cross_or_touch() {
+        // Two shapes without area (Box2D's rule: distance within 10 f32::EPSILON).
+        let seg = |x1: f32, y1: f32, x2: f32, y2: f32| {
+            Shape::Segment(crate::shape::Segment {
+                point1: Vec2::new(x1, y1),
+                point2: Vec2::new(x2, y2),
+            })
+        };
+        let at = |x: f32, y: f32| Transform {
+            p: Vec2::new(x, y),
+            q: crate::math::Rot::IDENTITY,
+        };
+        let cross = seg(-1.0, 0.0, 1.0, 0.0);
+        let post = seg(0.0, -0.5, 0.0, 0.5);
+        assert!(shapes_overlap(&cross, at(0.0, 0.0), &post, at(0.0, 0.0)));
+        // Touching at an end: the post's top on the crossbar.
+        assert!(shapes_overlap(&cross, at(0.0, 0.5), &post, at(0.0, 0.0)));
+        // A millimetre above the post, and parallel a millimetre apart: apart.
+        assert!(!shapes_overlap(&cross, at(0.0, 0.501), &post, at(0.0, 0.0)));
+        assert!(!shapes_overlap(
+            &cross,
+            at(0.0, 0.001),
+            &cross,
+            at(0.0, 0.0)
+        ));
+        // Through the world's query as well.
+        let mut w = World::new(StepSettings::default());
+        w.create_body(
+            &BodyDef::new(ShapeDef::Segment {
+                point1: [0.0, -0.5],
+                point2: [0.0, 0.5],
+            })
+            .kind(BodyKind::Static),
+        )
+        .unwrap();
+        let mut found = 0;
+        w.overlap_shape(&cross, at(0.0, 0.2), &QueryFilter::default(), |_| {
+            found += 1;
+            true
+        });
+        assert_eq!(found, 1);
+        found = 0;
+        w.overlap_shape(&cross, at(0.0, 0.7), &QueryFilter::default(), |_| {
+            found += 1;
+            true
+        });
+        assert_eq!(found, 0);
     }
 
     #[test]
