@@ -96,10 +96,12 @@ impl World {
                 n
             };
             // Only a touching contact of one dynamic body and one that is not can be a
-            // kinematic body's: the compact key says so without reading the contact.
+            // kinematic body's: the compact key says so without reading the contact. One
+            // test, not two in turn: whether a contact touches is a coin toss in a churning
+            // pile, while few contacts pass both (washer: its drum's, among 39,000).
             let key = &self.contact_keys[k];
             let [a, b] = key.dynamic;
-            if !key.touching || (a == NOT_DYNAMIC) == (b == NOT_DYNAMIC) {
+            if !(key.touching & ((a == NOT_DYNAMIC) != (b == NOT_DYNAMIC))) {
                 continue;
             }
             let c = &self.contacts[k];
