@@ -99,9 +99,10 @@ pub struct Solver {
     /// that colour's contacts, in contact order.
     color_of: Vec<u8>,
     rank_of: Vec<u32>,
-    /// The order the colouring visits the touching contacts in, and its bucket counts.
-    coloring_order: Vec<u32>,
-    order_buckets: Vec<u32>,
+    /// The order the colouring visits the touching contacts in (each entry's `contact` its
+    /// index in `touching`), and each contact's bucket of that order.
+    coloring_order: Vec<Touching>,
+    order_buckets: Vec<u8>,
     /// The dynamic pairs the colouring was computed for, and the body count and `use_wide`.
     colored_pairs: Vec<[u32; 2]>,
     colored_for: Option<(usize, bool)>,
@@ -377,10 +378,9 @@ impl Solver {
         coloring_order(touching, &mut self.order_buckets, &mut self.coloring_order);
         self.color_of.clear();
         self.color_of.resize(touching.len(), 0);
-        for &k in &self.coloring_order {
-            let t = &touching[k as usize];
+        for t in &self.coloring_order {
             let color = self.coloring.assign(side(t.dynamic[0]), side(t.dynamic[1]));
-            self.color_of[k as usize] = color as u8;
+            self.color_of[t.contact as usize] = color as u8;
         }
         self.rank_of.clear();
         let mut counts = [0u32; COLOR_COUNT];
@@ -1214,24 +1214,38 @@ const ORDER_BUCKETS: usize = 256;
 /// Gauss-Seidel: Leventhal and Lewis, "Randomized methods for linear constraints",
 /// Math. Oper. Res. 35(3), 2010). The hash depends only on the pair, so the colouring is
 /// still a function of the sequence of pairs, as keeping last step's colouring requires.
-fn coloring_order(touching: &[Touching], buckets: &mut Vec<u32>, order: &mut Vec<u32>) {
-    let bucket = |t: &Touching| (pair_hash(t.dynamic) >> 24) as usize;
-    buckets.clear();
-    buckets.resize(ORDER_BUCKETS, 0);
-    for t in touching {
-        buckets[bucket(t)] += 1;
+///
+/// Each entry carries its pair, so the colouring reads the order alone, in sequence, not
+/// `touching` scattered; each contact's bucket is hashed once, into `bucket_of`.
+fn coloring_order(touching: &[Touching], bucket_of: &mut Vec<u8>, order: &mut Vec<Touching>) {
+    const _: () = assert!(ORDER_BUCKETS == 1 << 8);
+    bucket_of.clear();
+    bucket_of.extend(touching.iter().map(|t| (pair_hash(t.dynamic) >> 24) as u8));
+    let mut next = [0u32; ORDER_BUCKETS];
+    for &b in bucket_of.iter() {
+        next[b as usize] += 1;
     }
-    let mut next = 0;
-    for b in buckets.iter_mut() {
-        let n = *b;
-        *b = next;
-        next += n;
+    let mut start = 0;
+    for n in next.iter_mut() {
+        let count = *n;
+        *n = start;
+        start += count;
     }
     order.clear();
-    order.resize(touching.len(), 0);
-    for (k, t) in touching.iter().enumerate() {
-        let slot = &mut buckets[bucket(t)];
-        order[*slot as usize] = k as u32;
+    order.resize(
+        touching.len(),
+        Touching {
+            contact: 0,
+            dynamic: [0; 2],
+        },
+    );
+    for (k, (t, &b)) in touching.iter().zip(bucket_of.iter()).enumerate() {
+        let slot = &mut next[b as usize];
+        // `contact` here is the entry's index in `touching`.
+        order[*slot as usize] = Touching {
+            contact: k as u32,
+            dynamic: t.dynamic,
+        };
         *slot += 1;
     }
 }
