@@ -898,7 +898,11 @@ mod imp {
              mixes as `sqrt(a·b)` and restitution as `max(a, b)`, as in tumble.\n\
              - **Rapier**: `dt` = the scene's, `num_solver_iterations` = the scene's substeps \
              (Rapier's substeps), all other integration parameters Rapier's defaults; \
-             `max_ccd_substeps = 0` (CCD off everywhere) and no body asks for CCD; sleep \
+             continuous collision as the scene says (`max_ccd_substeps = 1` and every dynamic \
+             body `ccd_enabled` when it is on, as it is by default; Rapier then sweeps every \
+             dynamic body against every collider); collision events (contact and sensor begin \
+             and end) on for every collider and read after each step (Rapier has no hit event \
+             by approach speed); sleep \
              threshold and time as tumble's; filters as interaction groups (a non-zero group by \
              a contact filter hook); friction: each collider its part's coefficient with \
              `CoefficientCombineRule::GeometricMean`, which is `sqrt(a·b)` for every pair, \

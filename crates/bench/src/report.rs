@@ -546,7 +546,7 @@ fn markdown(
          does (docs/bench/README.md: same bodies, shapes, densities, friction `sqrt(a·b)`, \
          restitution `max(a, b)`, gravity, dt = 1/60 s; Box2D with sleep off and continuous \
          collision as tumble's (on; a body is swept only in a step where it moves more than half its \
-         thickness); Rapier with sleep and CCD off).\n"
+         thickness); Rapier with sleep off and continuous collision as the scene says).\n"
     );
 
     for (n, (case, points, secs)) in results.iter().enumerate() {

@@ -320,7 +320,7 @@ mod tests {
     use super::*;
     use serde_json::json;
     use tumble_physics::{
-        BodyDef, BodyKind, JointDef, Limits, PartDef, SceneDef, ShapeDef, Vec2, World,
+        BodyDef, BodyKind, Event, JointDef, Limits, PartDef, SceneDef, ShapeDef, Vec2, World,
     };
 
     /// tumble's world behind [`Targets`], to run the peers' script on it.
@@ -549,6 +549,51 @@ mod tests {
             assert!(still(box2d.pose(0).unwrap()[1]), "Box2D, sleep {sleep}");
             assert!(still(rapier.pose(0).unwrap()[1]), "Rapier, sleep {sleep}");
         }
+    }
+
+    #[test]
+    fn rapier_gathers_the_contact_and_sensor_events_tumble_gathers() {
+        // A ball (restitution 0) falls through a static sensor box spanning y in [2, 4] onto
+        // a static ground: one sensor overlap begins and ends, one contact begins and stays,
+        // in tumble and in Rapier alike (Rapier's collision events, read after each step).
+        let mut scene = SceneDef::new("events");
+        scene.push(
+            BodyDef::new(ShapeDef::Box {
+                half_extents: [10.0, 0.5],
+                radius: 0.0,
+            })
+            .kind(BodyKind::Static)
+            .at(0.0, -0.5),
+        );
+        scene.push(
+            BodyDef::compound(vec![
+                PartDef::new(ShapeDef::Box {
+                    half_extents: [1.0, 1.0],
+                    radius: 0.0,
+                })
+                .sensor(true),
+            ])
+            .kind(BodyKind::Static)
+            .at(0.0, 3.0),
+        );
+        scene.push(BodyDef::new(ShapeDef::Circle { radius: 0.25 }).at(0.0, 6.0));
+        let mut tumble = World::from_scene(&scene, &Limits::default()).unwrap();
+        let mut rapier = Rapier::new(&scene, 1).unwrap();
+        let mut cursor = tumble_physics::EventCursor::default();
+        let mut ours = [0u64; 2];
+        for _ in 0..120 {
+            tumble.step(scene.dt, scene.substeps);
+            rapier.step().unwrap();
+            for e in cursor.take(&tumble) {
+                match e {
+                    Event::ContactBegin { .. } | Event::ContactEnd { .. } => ours[0] += 1,
+                    Event::SensorBegin { .. } | Event::SensorEnd { .. } => ours[1] += 1,
+                    _ => {}
+                }
+            }
+        }
+        assert_eq!(ours, [1, 2], "tumble");
+        assert_eq!(rapier.event_counts(), [1, 2], "Rapier");
     }
 
     #[test]

@@ -42,8 +42,15 @@
 //! whole in all three.
 //!
 //! Integration: `dt` is the scene's; `num_solver_iterations` = the scene's substeps (Rapier's
-//! substeps); CCD off (`max_ccd_substeps = 0`, the world-wide switch, and no body asks for it;
-//! tumble has none); all other integration parameters are Rapier's defaults. A scene with a
+//! substeps); continuous collision as the scene says, as tumble's and Box2D's: with the
+//! scene's `continuous` on, `max_ccd_substeps = 1` (the world-wide switch) and every dynamic
+//! body `ccd_enabled` (Rapier sweeps such a body against every collider, where tumble and
+//! Box2D sweep a body that is not a `bullet` against static shapes only); with it off, neither.
+//! Every collider has `ActiveEvents::COLLISION_EVENTS` (contacts and sensor overlaps that
+//! begin or end, the events tumble and Box2D gather), sent to a channel that each step
+//! drains; Rapier has no hit event by approach speed (its contact force events are by force),
+//! so hits are the one kind of event it does not gather here. All other integration
+//! parameters are Rapier's defaults. A scene with a
 //! script ([`super::script`]) runs it before each step: junkyard's target transform becomes
 //! the velocity that reaches it in one step, computed as tumble's
 //! `World::set_target_transform` does; rain's groups are made as the scene's bodies and
@@ -100,6 +107,7 @@
 //! index and its type, never dropped.
 
 use std::collections::HashMap;
+use std::sync::mpsc::{Receiver, channel};
 
 use anyhow::{Context, Result, bail};
 use rapier2d::prelude::*;
@@ -125,6 +133,16 @@ pub struct Rapier {
     steps: u64,
     /// The bodies each tag's group made ([`Targets::spawn`]).
     spawned: HashMap<u64, Vec<RigidBodyHandle>>,
+    /// Where Rapier sends its collision events (contacts and sensor overlaps that begin or
+    /// end), read after each step as tumble's and Box2D's are.
+    events: ChannelEventCollector,
+    collisions: Receiver<CollisionEvent>,
+    /// Kept so that the collector's other channels stay open (nothing asks for their events).
+    _forces: Receiver<ContactForceEvent>,
+    _tears: Receiver<SoftBodyTearEvent>,
+    /// Collision events read so far: of contacts, of sensors (read by the tests).
+    #[cfg_attr(not(test), allow(dead_code))]
+    event_counts: [u64; 2],
 }
 
 /// Knobs of Rapier's solver that the accuracy report sweeps; `None` keeps Rapier's default.
@@ -235,7 +253,8 @@ impl Rapier {
         let params = &mut world.integration_parameters;
         params.dt = scene.dt;
         params.num_solver_iterations = scene.substeps as usize;
-        params.max_ccd_substeps = 0;
+        // Continuous collision as the scene says (see the module's note).
+        params.max_ccd_substeps = usize::from(settings.continuous);
         if let Some(hertz) = tuning.contact_hertz {
             params.contact_softness.natural_frequency = hertz;
             params.static_contact_softness.natural_frequency = 2.0 * hertz;
@@ -255,6 +274,9 @@ impl Rapier {
         }
         let h = scene.dt / scene.substeps.max(1) as f32;
         create_joints(&mut world, &handles, scene, &settings, h)?;
+        let (collision_send, collisions) = channel();
+        let (force_send, forces) = channel();
+        let (tear_send, tears) = channel();
         Ok(Rapier {
             world,
             handles,
@@ -267,7 +289,19 @@ impl Rapier {
             script: super::script(&scene.name),
             steps: 0,
             spawned: HashMap::new(),
+            events: ChannelEventCollector::new(collision_send, force_send, tear_send),
+            collisions,
+            _forces: forces,
+            _tears: tears,
+            event_counts: [0; 2],
         })
+    }
+
+    /// Collision events read so far: contacts that began or ended touching, and sensor
+    /// overlaps that began or ended.
+    #[cfg(test)]
+    pub fn event_counts(&self) -> [u64; 2] {
+        self.event_counts
     }
 
     /// Bodies and impulse joints in the world.
@@ -363,7 +397,7 @@ fn create_body(
         .gravity_scale(b.gravity_scale)
         .can_sleep(true)
         .sleeping(asleep)
-        .ccd_enabled(false);
+        .ccd_enabled(settings.continuous && b.kind == BodyKind::Dynamic);
     if b.fixed_rotation {
         builder = builder.lock_rotations();
     }
@@ -433,6 +467,7 @@ fn create_body(
             .restitution(part.restitution)
             .restitution_combine_rule(CoefficientCombineRule::Max)
             .sensor(part.sensor)
+            .active_events(ActiveEvents::COLLISION_EVENTS)
             .user_data(pack(category, mask, f.group));
         let collider = if f.group == 0 {
             collider.collision_groups(InteractionGroups::new(
@@ -714,12 +749,16 @@ impl Peer for Rapier {
             script(self.steps, self)?;
         }
         self.steps += 1;
-        let world = &mut self.world;
+        let (world, events) = (&mut self.world, &self.events);
         if self.groups {
             self.pool
-                .install(|| world.step_with_events(&GroupRule, &()));
+                .install(|| world.step_with_events(&GroupRule, events));
         } else {
-            self.pool.install(|| world.step());
+            self.pool.install(|| world.step_with_events(&(), events));
+        }
+        // The step's events, read as tumble's runner and Box2D's peer read theirs.
+        while let Ok(event) = self.collisions.try_recv() {
+            self.event_counts[usize::from(event.sensor())] += 1;
         }
         Ok(())
     }
