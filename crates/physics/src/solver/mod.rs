@@ -67,7 +67,7 @@ pub struct ContactInput<'a> {
 pub const NOT_DYNAMIC: u32 = u32::MAX;
 
 /// A touching contact as the colouring sees it.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 pub struct Touching {
     /// Its index in the contact array.
     pub contact: u32,
@@ -102,7 +102,7 @@ pub struct Solver {
     /// The order the colouring visits the touching contacts in (each entry's `contact` its
     /// index in `touching`), and each contact's bucket of that order.
     coloring_order: Vec<Touching>,
-    order_buckets: Vec<u8>,
+    order_bucket_of: Vec<u8>,
     /// The dynamic pairs the colouring was computed for, and the body count and `use_wide`.
     colored_pairs: Vec<[u32; 2]>,
     colored_for: Option<(usize, bool)>,
@@ -375,7 +375,11 @@ impl Solver {
         self.color_joints(joints);
         // Colours are handed out in a scrambled order, not in contact order: see
         // `coloring_order`. Ranks stay in contact order, so each colour's lanes still stream.
-        coloring_order(touching, &mut self.order_buckets, &mut self.coloring_order);
+        coloring_order(
+            touching,
+            &mut self.order_bucket_of,
+            &mut self.coloring_order,
+        );
         self.color_of.clear();
         self.color_of.resize(touching.len(), 0);
         for t in &self.coloring_order {
@@ -1232,13 +1236,7 @@ fn coloring_order(touching: &[Touching], bucket_of: &mut Vec<u8>, order: &mut Ve
         start += count;
     }
     order.clear();
-    order.resize(
-        touching.len(),
-        Touching {
-            contact: 0,
-            dynamic: [0; 2],
-        },
-    );
+    order.resize(touching.len(), Touching::default());
     for (k, (t, &b)) in touching.iter().zip(bucket_of.iter()).enumerate() {
         let slot = &mut next[b as usize];
         // `contact` here is the entry's index in `touching`.

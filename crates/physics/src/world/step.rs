@@ -535,12 +535,8 @@ impl World {
         } else {
             keys.len()
         };
-        let blank = Touching {
-            contact: 0,
-            dynamic: [0; 2],
-        };
         self.touching.clear();
-        self.touching.resize(candidates, blank);
+        self.touching.resize(candidates, Touching::default());
         let mut count = 0;
         for n in 0..candidates {
             let k = if listed {
