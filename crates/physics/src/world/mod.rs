@@ -160,7 +160,8 @@ struct BodySim {
     margin: f32,
     /// Smallest centre-to-surface distance (how thin the body is).
     min_extent: f32,
-    /// Moved more than half its thickness last step: its contacts are always recomputed.
+    /// Moved more than half its thickness last step: its contacts with static and kinematic
+    /// bodies are always recomputed.
     fast: bool,
     /// Seconds it has rested (below the sleep threshold); 0 while it moves.
     sleep_time: f32,

@@ -626,7 +626,8 @@ impl World {
         // to be swept (continuous collision), its pose at the step's start.
         let finalize_one = |sim: &mut BodySim, st: &mut BodyState| -> (bool, Option<Transform>) {
             // Box2D `b2FinalizeBodiesTask`: a body that moved more than half its thickness
-            // is fast, and its contacts are recomputed rather than recycled.
+            // is fast, and its contacts with static and kinematic bodies are recomputed
+            // rather than recycled (see `recycle`).
             let max_motion = (st.dp.length() + st.dq.s.abs() * sim.extent)
                 .max((st.v.length() + st.w.abs() * sim.extent) * dt);
             sim.fast = max_motion > 0.5 * sim.min_extent;
@@ -852,7 +853,14 @@ fn recycle(c: &mut Contact, sa: &BodySim, sb: &BodySim) -> bool {
     let Some(cache) = c.cache else {
         return false;
     };
-    if sa.fast || sb.fast {
+    // A fast body's contacts with what the solver does not move (static and kinematic
+    // shapes, which continuous collision sweeps it against) are recomputed every step, as
+    // Box2D does for every contact of a fast body since its "Tunable ccd" change (PR #1093).
+    // Between two dynamic bodies only their motion relative to each other counts, which
+    // the tolerance below bounds: a pile tumbling together (washer's) keeps its manifolds,
+    // as Box2D v3.2's `b2CollideTask` keeps them.
+    let dynamic = (sa.kind == BodyKind::Dynamic, sb.kind == BodyKind::Dynamic);
+    if (sa.fast && !dynamic.1) || (sb.fast && !dynamic.0) {
         return false;
     }
     let (xa, xb) = (sa.xf, sb.xf);

@@ -460,3 +460,62 @@ fn user_data_tags_a_body_until_it_is_destroyed_and_survives_a_snapshot() {
     assert_eq!(again.index, ball.index);
     assert_eq!(w.user_data(again).unwrap(), 0);
 }
+
+/// Contact recycling and fast bodies (`step::recycle`). Two 1 m boxes, one on the other,
+/// flying together at 30 m/s without gravity: each moves 0.5 m a step, twice its half
+/// thickness, so both are fast, yet they barely move relative to each other and their
+/// contact keeps its manifold (each step after the first is recycled). A 4 cm box sliding
+/// at 1.2 m/s on a static floor without friction moves 2 cm a step: fast against its 2 cm
+/// half thickness, and within the 5 cm recycling distance of where its manifold was made, so
+/// only the rule for fast bodies recomputes it (every step).
+#[test]
+fn fast_bodies_recycle_contacts_with_each_other_but_not_with_static_ground() {
+    let unit = ShapeDef::Box {
+        half_extents: [0.5, 0.5],
+        radius: 0.0,
+    };
+    let mut w = World::new(StepSettings {
+        gravity: Vec2::ZERO,
+        ..StepSettings::default()
+    });
+    w.add_body(&BodyDef::new(unit.clone()).velocity(30.0, 0.0))
+        .unwrap();
+    w.add_body(&BodyDef::new(unit).at(0.0, 1.0).velocity(30.0, 0.0))
+        .unwrap();
+    let mut recycled = 0;
+    for _ in 0..10 {
+        w.step(1.0 / 60.0, 4);
+        assert!(w.sims.iter().all(|s| s.fast));
+        assert_eq!(w.profile().touching, 1);
+        recycled += w.profile().recycled;
+    }
+    // The first step makes the manifold and the second finds the boxes fast for the first time.
+    assert!(recycled >= 8, "{recycled} of 10 steps recycled");
+
+    let mut w = World::new(StepSettings::default());
+    w.add_body(
+        &BodyDef::new(ShapeDef::Box {
+            half_extents: [50.0, 0.5],
+            radius: 0.0,
+        })
+        .kind(BodyKind::Static)
+        .friction(0.0),
+    )
+    .unwrap();
+    w.add_body(
+        &BodyDef::new(ShapeDef::Box {
+            half_extents: [0.02, 0.02],
+            radius: 0.0,
+        })
+        .at(0.0, 0.52)
+        .velocity(1.2, 0.0)
+        .friction(0.0),
+    )
+    .unwrap();
+    for _ in 0..10 {
+        w.step(1.0 / 60.0, 4);
+        assert!(w.sims[1].fast);
+        assert_eq!(w.profile().touching, 1);
+        assert_eq!(w.profile().recycled, 0);
+    }
+}
