@@ -48,6 +48,7 @@ impl Distance {
         self.impulse + self.lower_impulse - self.upper_impulse
     }
 
+    #[inline(always)]
     pub(super) fn warm_start(&self, s: &JointStep, p: &mut Pair) {
         let (ra, rb, d) = anchors(s, p);
         let (axis, _) = normalize_and_length(d);
@@ -59,6 +60,7 @@ impl Distance {
         self.spring.is_some() && self.limit.is_none_or(|[lo, hi]| lo < hi)
     }
 
+    #[inline(always)]
     pub(super) fn solve(&mut self, s: &JointStep, p: &mut Pair, ctx: &JointContext, bias: bool) {
         let (ra, rb, d) = anchors(s, p);
         let (axis, length) = normalize_and_length(d);

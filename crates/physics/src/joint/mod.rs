@@ -318,6 +318,9 @@ impl Joint {
         }
         let mut p = self.load(states);
         let Joint { step: s, kind, .. } = self;
+        // Each kind's `solve` and `warm_start` is inlined here (`#[inline(always)]`), so the
+        // pair's velocities stay in registers from load to store: called, the pair went
+        // through memory between them, and joint_grid's substeps took 5.1 ms, not 3.5.
         match kind {
             JointKind::Revolute(j) => j.solve(s, &mut p, ctx, use_bias),
             JointKind::Prismatic(j) => j.solve(s, &mut p, ctx, use_bias),

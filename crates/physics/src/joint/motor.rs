@@ -56,12 +56,14 @@ impl Motor {
         self.angular_impulse = 0.0;
     }
 
+    #[inline(always)]
     pub(super) fn warm_start(&self, s: &JointStep, p: &mut Pair) {
         let ra = p.dqa.apply(s.frame_a.p);
         let rb = p.dqb.apply(s.frame_b.p);
         p.apply(s, ra, rb, self.linear_impulse, self.angular_impulse);
     }
 
+    #[inline(always)]
     pub(super) fn solve(&mut self, s: &JointStep, p: &mut Pair, ctx: &JointContext) {
         let k = self.correction_factor * ctx.inv_h;
         {
@@ -142,11 +144,13 @@ impl Mouse {
         self.angular_impulse = 0.0;
     }
 
+    #[inline(always)]
     pub(super) fn warm_start(&self, s: &JointStep, p: &mut Pair) {
         let rb = p.dqb.apply(s.frame_b.p);
         p.apply(s, Vec2::ZERO, rb, self.linear_impulse, self.angular_impulse);
     }
 
+    #[inline(always)]
     pub(super) fn solve(&mut self, s: &JointStep, p: &mut Pair, ctx: &JointContext) {
         {
             let soft = &self.angular_softness;

@@ -161,6 +161,7 @@ impl Prismatic {
         self.limit_impulse = [0.0; 2];
     }
 
+    #[inline(always)]
     pub(super) fn warm_start(&self, s: &JointStep, p: &mut Pair) {
         let ax = axis(s, p);
         let axial = self.spring_impulse + self.motor_impulse + self.limit_impulse[0]
@@ -169,6 +170,7 @@ impl Prismatic {
         push_along(s, p, ax.perp, ax.s1, ax.s2, self.impulse.x, self.impulse.y);
     }
 
+    #[inline(always)]
     pub(super) fn solve(&mut self, s: &JointStep, p: &mut Pair, ctx: &JointContext, bias: bool) {
         let ax = axis(s, p);
         let axial_mass = mass_along(s, ax.a1, ax.a2);
@@ -290,6 +292,7 @@ impl Wheel {
         self.limit_impulse = [0.0; 2];
     }
 
+    #[inline(always)]
     pub(super) fn warm_start(&self, s: &JointStep, p: &mut Pair) {
         let ax = axis(s, p);
         let axial = self.spring_impulse + self.limit_impulse[0] - self.limit_impulse[1];
@@ -297,6 +300,7 @@ impl Wheel {
         push_along(s, p, ax.perp, ax.s1, ax.s2, self.perp_impulse, 0.0);
     }
 
+    #[inline(always)]
     pub(super) fn solve(&mut self, s: &JointStep, p: &mut Pair, ctx: &JointContext, bias: bool) {
         let ax = axis(s, p);
         let axial_mass = mass_along(s, ax.a1, ax.a2);

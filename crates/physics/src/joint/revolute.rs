@@ -53,6 +53,7 @@ impl Revolute {
         self.upper_impulse = 0.0;
     }
 
+    #[inline(always)]
     pub(super) fn warm_start(&self, s: &JointStep, p: &mut Pair) {
         let ra = p.dqa.apply(s.frame_a.p);
         let rb = p.dqb.apply(s.frame_b.p);
@@ -61,6 +62,7 @@ impl Revolute {
         p.apply(s, ra, rb, self.linear_impulse, axial);
     }
 
+    #[inline(always)]
     pub(super) fn solve(&mut self, s: &JointStep, p: &mut Pair, ctx: &JointContext, bias: bool) {
         let fixed_rotation = s.inv_i_a + s.inv_i_b == 0.0;
         // The angle costs an arctangent: only the spring and the limit read it.

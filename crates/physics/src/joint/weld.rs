@@ -50,12 +50,14 @@ impl Weld {
         self.angular_impulse = 0.0;
     }
 
+    #[inline(always)]
     pub(super) fn warm_start(&self, s: &JointStep, p: &mut Pair) {
         let ra = p.dqa.apply(s.frame_a.p);
         let rb = p.dqb.apply(s.frame_b.p);
         p.apply(s, ra, rb, self.linear_impulse, self.angular_impulse);
     }
 
+    #[inline(always)]
     pub(super) fn solve(&mut self, s: &JointStep, p: &mut Pair, bias: bool) {
         // Angular. A spring acts in the relax pass too; a rigid part only with bias.
         {
