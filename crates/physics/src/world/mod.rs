@@ -408,10 +408,12 @@ pub struct World {
     /// Each sensor shape's overlaps after the last step.
     sensors: events::SensorOverlaps,
     /// Continuous collision's kept buffers: each fast body's pose at the step's start (by
-    /// slot), this step's fast bodies, and the candidates of one sweep.
+    /// slot) and this step's fast bodies.
     sweep_starts: Vec<Transform>,
     fast_bodies: Vec<u32>,
-    continuous_scratch: Vec<u32>,
+    /// Each fast body's time of impact in this pass of continuous collision, by its place in
+    /// the list of fast bodies (a kept buffer).
+    sweep_impacts: Vec<f32>,
     /// Bodies continuous collision moved back this step (for the profile).
     profile_rewound: usize,
     /// A tree of the static shapes alone, which a fast body is swept against (Box2D keeps a
@@ -483,7 +485,7 @@ impl World {
             sensors: events::SensorOverlaps::new(),
             sweep_starts: Vec::new(),
             fast_bodies: Vec::new(),
-            continuous_scratch: Vec::new(),
+            sweep_impacts: Vec::new(),
             profile_rewound: 0,
             static_tree: BroadPhase::default(),
             static_tree_stale: true,

@@ -707,7 +707,7 @@ impl World {
                 sim.fast && sim.kind == BodyKind::Dynamic
             }));
             debug_assert_eq!(fast.len(), swept);
-            self.profile_rewound = self.solve_continuous(&fast, false);
+            self.profile_rewound = self.solve_continuous(&fast, false, spread);
         } else {
             self.profile_rewound = 0;
         }
@@ -798,7 +798,7 @@ impl World {
         // Bullets, against every body's final pose (the boxes just fitted); one moved back
         // has its boxes fitted again.
         let bullets_rewound = if fast.iter().any(|&b| self.records[b as usize].bullet) {
-            self.solve_continuous(&fast, true)
+            self.solve_continuous(&fast, true, spread)
         } else {
             0
         };
