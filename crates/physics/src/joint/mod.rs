@@ -254,6 +254,32 @@ impl Joint {
         }
     }
 
+    /// A hinge with no limit, motor or spring: its only rows are the shared point's, which
+    /// the solver takes eight at a time (`solver::wide::hinges`).
+    #[inline]
+    pub(crate) fn free_hinge(&self) -> bool {
+        matches!(&self.kind, JointKind::Revolute(r)
+            if r.limit.is_none() && r.motor.is_none() && r.spring.is_none())
+    }
+
+    /// This joint's hinge; only for a revolute joint.
+    #[inline(always)]
+    pub(crate) fn hinge(&self) -> &Revolute {
+        let JointKind::Revolute(r) = &self.kind else {
+            unreachable!("only a hinge is solved as one")
+        };
+        r
+    }
+
+    /// This joint's hinge, to write; only for a revolute joint.
+    #[inline(always)]
+    pub(crate) fn hinge_mut(&mut self) -> &mut Revolute {
+        let JointKind::Revolute(r) = &mut self.kind else {
+            unreachable!("only a hinge is solved as one")
+        };
+        r
+    }
+
     /// Whether the solver passes touch this joint at all.
     pub fn solved(&self) -> bool {
         !matches!(self.kind, JointKind::Filter)

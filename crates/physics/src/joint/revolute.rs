@@ -20,11 +20,11 @@ pub struct Revolute {
     pub spring: Option<Spring>,
     /// The spring's rest angle (rad; 0 is the start).
     pub target_angle: f32,
-    pub(super) linear_impulse: Vec2,
-    pub(super) spring_impulse: f32,
-    pub(super) motor_impulse: f32,
-    pub(super) lower_impulse: f32,
-    pub(super) upper_impulse: f32,
+    pub(crate) linear_impulse: Vec2,
+    pub(crate) spring_impulse: f32,
+    pub(crate) motor_impulse: f32,
+    pub(crate) lower_impulse: f32,
+    pub(crate) upper_impulse: f32,
     #[serde(skip)]
     pub(super) axial_mass: f32,
     #[serde(skip)]

@@ -36,6 +36,8 @@ pub trait Lanes:
     fn fast_min(self, rhs: Self) -> Self;
     /// All-ones lanes where `self > rhs` (ordered).
     fn gt(self, rhs: Self) -> Self;
+    /// Lanes where `self != rhs` (true where either is NaN, as `!=` is), as a mask.
+    fn ne(self, rhs: Self) -> Self;
     /// `if_true` where this mask is set, else `if_false`.
     fn select(self, if_true: Self, if_false: Self) -> Self;
     /// Whether any lane of this mask is set.
@@ -70,6 +72,10 @@ impl Lanes for f32x8 {
     #[inline(always)]
     fn gt(self, rhs: Self) -> Self {
         f32x8::simd_gt(self, rhs)
+    }
+    #[inline(always)]
+    fn ne(self, rhs: Self) -> Self {
+        f32x8::simd_ne(self, rhs)
     }
     #[inline(always)]
     fn select(self, if_true: Self, if_false: Self) -> Self {
@@ -184,6 +190,10 @@ mod avx {
         #[inline(always)]
         fn gt(self, rhs: Self) -> Self {
             Avx(unsafe { _mm256_cmp_ps::<_CMP_GT_OQ>(self.0, rhs.0) })
+        }
+        #[inline(always)]
+        fn ne(self, rhs: Self) -> Self {
+            Avx(unsafe { _mm256_cmp_ps::<_CMP_NEQ_UQ>(self.0, rhs.0) })
         }
         #[inline(always)]
         fn select(self, if_true: Self, if_false: Self) -> Self {

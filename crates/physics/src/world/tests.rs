@@ -1,4 +1,5 @@
 use super::*;
+use crate::joint::JointDef;
 use crate::scene::{BodyDef, ShapeDef};
 
 fn ball_on_ground() -> World {
@@ -386,6 +387,89 @@ fn simd_and_scalar_solvers_agree_bit_for_bit() {
     };
     // The 8-lane kernels in AVX2 registers (where the CPU has AVX2; elsewhere both runs
     // take the portable path) against the portable f32x8 kernels, and against scalar.
+    let portable = run(true, false);
+    assert_eq!(run(true, true), portable);
+    assert_eq!(run(false, false), portable);
+}
+
+/// A 16 × 16 net of discs hung from a static bar by hinges (each disc joined to the one above
+/// and the one to its left, as in `joint_grid`), every seventh hinge limited to ±0.3 rad so
+/// that runs of free hinges are broken in each colour, swinging under gravity.
+fn hinge_net() -> World {
+    let mut w = World::new(StepSettings::default());
+    let bar = w
+        .add_body(
+            &BodyDef::new(ShapeDef::Box {
+                half_extents: [10.0, 0.1],
+                radius: 0.0,
+            })
+            .kind(BodyKind::Static)
+            .at(7.5, 0.5),
+        )
+        .unwrap();
+    let filter = crate::scene::Filter {
+        category: 2,
+        mask: !2,
+        group: 0,
+    };
+    let n = 16;
+    let mut made = 0;
+    for k in 0..n {
+        for i in 0..n {
+            let (x, y) = (k as f32, -(i as f32));
+            let disc = w
+                .add_body(
+                    &BodyDef::new(ShapeDef::Circle { radius: 0.4 })
+                        .at(x, y)
+                        .filter(filter),
+                )
+                .unwrap();
+            let above = if i == 0 { bar } else { disc - 1 };
+            let mut joints = vec![JointDef::hinge([above, disc], [x, y + 0.5])];
+            if k > 0 {
+                joints.push(JointDef::hinge([disc - n, disc], [x - 0.5, y]));
+            }
+            for mut def in joints {
+                made += 1;
+                if made % 7 == 0
+                    && let JointDef::Revolute { limit, .. } = &mut def
+                {
+                    *limit = Some([-0.3, 0.3]);
+                }
+                w.create_joint(&def).unwrap();
+            }
+        }
+    }
+    // A push sideways, so that the net swings and the limits are reached.
+    for b in 1..w.body_count() {
+        w.set_velocity(b, Vec2::new(2.0, 0.0), 0.0);
+    }
+    w
+}
+
+#[test]
+fn free_hinges_eight_at_a_time_agree_with_one_at_a_time_bit_for_bit() {
+    // The hinge kernel does each lane's operations in the order `Revolute::solve` does, so
+    // the state and every joint's impulses must match exactly.
+    let run = |simd: bool, avx: bool| {
+        let mut w = hinge_net();
+        w.settings_mut().simd = simd;
+        w.solver.use_avx = avx;
+        let mut hashes = Vec::new();
+        for _ in 0..90 {
+            w.step(1.0 / 60.0, 4);
+            hashes.push(w.state_hash());
+        }
+        let reactions: Vec<[u32; 3]> = w
+            .joint_ids()
+            .map(|id| {
+                let (f, t) = w.joint_reaction(id).unwrap();
+                [f.x.to_bits(), f.y.to_bits(), t.to_bits()]
+            })
+            .collect();
+        assert_eq!(reactions.len(), 16 * 16 + 15 * 16);
+        (hashes, reactions)
+    };
     let portable = run(true, false);
     assert_eq!(run(true, true), portable);
     assert_eq!(run(false, false), portable);
