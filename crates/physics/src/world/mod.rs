@@ -160,8 +160,8 @@ struct BodySim {
     margin: f32,
     /// Smallest centre-to-surface distance (how thin the body is).
     min_extent: f32,
-    /// Moved more than half its thickness last step: its contacts with static and kinematic
-    /// bodies are always recomputed.
+    /// Moved more than half its thickness last step, or will at its velocity: its contacts
+    /// are recomputed each step, unless with another dynamic body (`step::recycle`).
     fast: bool,
     /// Seconds it has rested (below the sleep threshold); 0 while it moves.
     sleep_time: f32,
@@ -296,6 +296,11 @@ struct ContactCache {
     q_b: Rot,
     /// B's pose in A's frame.
     relative: Transform,
+    /// The closing speed (m/s, a bound over the pair's points) the manifold covers; below
+    /// zero when it left out a point (`step::recycle`). A snapshot without it loads 0: a fast
+    /// pair then computes its manifold afresh.
+    #[serde(default)]
+    closing_limit: f32,
 }
 
 #[inline]

@@ -395,20 +395,19 @@ impl World {
             // does (`World::validate` checks it), without reading the contact's last line.
             let was = key.touching;
             debug_assert_eq!(was, key.touched);
-            if recycling && recycle(c, &sims[a], &sims[b]) {
+            // How fast the pair can close: the bound on any point's approach speed.
+            let closing = || {
+                let (va, vb) = (&states[a], &states[b]);
+                (vb.v - va.v).length() + va.w.abs() * sims[a].extent + vb.w.abs() * sims[b].extent
+            };
+            if recycling && recycle(c, &sims[a], &sims[b], closing) {
                 key.touching = c.manifold.count > 0;
                 return (1, usize::from(key.touching != was));
             }
-            c.cache = Some(ContactCache {
-                q_a: xa.q,
-                q_b: xb.q,
-                relative: xa.inv_mul(xb),
-            });
             // Speculative margin: how far the pair can close in one step, so bodies meet
             // without tunnelling at ordinary speeds.
             let (va, vb) = (&states[a], &states[b]);
-            let closing =
-                (vb.v - va.v).length() + va.w.abs() * sims[a].extent + vb.w.abs() * sims[b].extent;
+            let closing = closing();
             let max_distance = SPECULATIVE_DISTANCE + dt * closing;
             let old = c.manifold;
             let (ra, rb) = (&records[sa], &records[sb]);
@@ -456,8 +455,17 @@ impl World {
                     kept += 1;
                 }
             }
+            // The manifold holds every point within reach of a pair closing at up to
+            // `closing`, unless the filter above dropped one (see `recycle`).
+            let closing_limit = if kept == m.count { closing } else { -1.0 };
             m.count = kept;
             c.manifold = m;
+            c.cache = Some(ContactCache {
+                q_a: xa.q,
+                q_b: xb.q,
+                relative: xa.inv_mul(xb),
+                closing_limit,
+            });
             key.touching = m.count > 0;
             (0, usize::from(key.touching != was))
         };
@@ -626,8 +634,9 @@ impl World {
         // to be swept (continuous collision), its pose at the step's start.
         let finalize_one = |sim: &mut BodySim, st: &mut BodyState| -> (bool, Option<Transform>) {
             // Box2D `b2FinalizeBodiesTask`: a body that moved more than half its thickness
-            // is fast, and its contacts with static and kinematic bodies are recomputed
-            // rather than recycled (see `recycle`).
+            // is fast, and its contacts are recomputed rather than recycled unless both
+            // bodies are dynamic and can close no faster than when the manifold was made
+            // (see `recycle`).
             let max_motion = (st.dp.length() + st.dq.s.abs() * sim.extent)
                 .max((st.v.length() + st.w.abs() * sim.extent) * dt);
             sim.fast = max_motion > 0.5 * sim.min_extent;
@@ -845,23 +854,28 @@ impl World {
     }
 }
 
-/// Contact recycling (Box2D v3 `b2CollideTask`): when neither body is fast and the pair's
-/// relative pose barely changed since the manifold was computed, keep its normal, anchors,
+/// Contact recycling (Box2D v3 `b2CollideTask`): when the pair's relative pose barely
+/// changed since the manifold was computed (and, for a fast body, under the rule below),
+/// keep its normal, anchors,
 /// ids and impulses, and refresh only each point's separation from the motion since, as the
 /// substeps do. This skips most of the narrow phase in resting piles and removes jitter.
-fn recycle(c: &mut Contact, sa: &BodySim, sb: &BodySim) -> bool {
+fn recycle(c: &mut Contact, sa: &BodySim, sb: &BodySim, closing: impl FnOnce() -> f32) -> bool {
     let Some(cache) = c.cache else {
         return false;
     };
     // A fast body's contacts with what the solver does not move (static and kinematic
     // shapes, which continuous collision sweeps it against) are recomputed every step, as
     // Box2D does for every contact of a fast body since its "Tunable ccd" change (PR #1093).
-    // Between two dynamic bodies only their motion relative to each other counts, which
-    // the tolerance below bounds: a pile tumbling together (washer's) keeps its manifolds,
-    // as Box2D v3.2's `b2CollideTask` keeps them.
-    let dynamic = (sa.kind == BodyKind::Dynamic, sb.kind == BodyKind::Dynamic);
-    if (sa.fast && !dynamic.1) || (sb.fast && !dynamic.0) {
-        return false;
+    // Two fast dynamic bodies moving together (washer's tumbling pile) keep their manifold,
+    // as Box2D v3.2's `b2CollideTask` keeps it, while it still covers how fast they can
+    // close: tumble's manifold holds the points a pair can reach at the closing speed it was
+    // made with (its speculative margin grows with it), so a pair that can now close faster,
+    // or whose manifold left out a point that was not approaching then, is recomputed.
+    if sa.fast || sb.fast {
+        let dynamic = sa.kind == BodyKind::Dynamic && sb.kind == BodyKind::Dynamic;
+        if !dynamic || closing() > cache.closing_limit {
+            return false;
+        }
     }
     let (xa, xb) = (sa.xf, sb.xf);
     let relative = xa.inv_mul(xb);

@@ -603,3 +603,44 @@ fn fast_bodies_recycle_contacts_with_each_other_but_not_with_static_ground() {
         assert_eq!(w.profile().recycled, 0);
     }
 }
+
+/// A recycled manifold covers only the closing speed it was made at (its speculative margin
+/// grows with it). Two 1 m boxes flying side by side at 30 m/s, 3 cm apart, without gravity:
+/// their contact has no point (the gap is past the 2 cm speculative distance and they do not
+/// close) and is recycled step after step. Then B is turned towards A at 6 m/s relative
+/// (10 cm a step): the contact must be made again at once, with a speculative point, or B
+/// would sink 7 cm into A before the pair moved far enough to be recomputed.
+#[test]
+fn a_fast_pair_that_starts_closing_is_not_recycled() {
+    let unit = ShapeDef::Box {
+        half_extents: [0.5, 0.5],
+        radius: 0.0,
+    };
+    let mut w = World::new(StepSettings {
+        gravity: Vec2::ZERO,
+        ..StepSettings::default()
+    });
+    w.add_body(&BodyDef::new(unit.clone()).velocity(30.0, 0.0))
+        .unwrap();
+    w.add_body(&BodyDef::new(unit).at(1.03, 0.0).velocity(30.0, 0.0))
+        .unwrap();
+    let mut recycled = 0;
+    for _ in 0..5 {
+        w.step(1.0 / 60.0, 4);
+        assert_eq!((w.contact_count(), w.profile().touching), (1, 0));
+        recycled += w.profile().recycled;
+    }
+    assert!(
+        recycled >= 3,
+        "only {recycled} of 5 steps recycled the contact"
+    );
+    w.set_velocity(1, Vec2::new(24.0, 0.0), 0.0);
+    w.step(1.0 / 60.0, 4);
+    assert_eq!((w.profile().recycled, w.profile().touching), (0, 1));
+    for _ in 0..10 {
+        let gap = w.body(1).position.x - w.body(0).position.x - 1.0;
+        // 1 cm: twice Box2D's linear slop, the overlap soft contacts leave.
+        assert!(gap > -0.01, "B sank {} m into A", -gap);
+        w.step(1.0 / 60.0, 4);
+    }
+}
