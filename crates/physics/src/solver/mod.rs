@@ -1070,24 +1070,23 @@ impl Passes<'_> {
         // SAFETY: the blocks of a stage are disjoint ranges of the joints, whose bodies no
         // other block of the stage writes (the colouring).
         let joints = unsafe { self.joints.range_mut(range) };
-        let one = |joint: &mut Joint| match stage.pass {
-            Pass::WarmStart => joint.warm_start(states),
-            Pass::Solve => joint.solve(states, &ctx, true),
-            Pass::Relax => joint.solve(states, &ctx, false),
-            _ => {}
-        };
         let pass = match stage.pass {
-            Pass::WarmStart => Some(wide::HingePass::WarmStart),
-            Pass::Solve => Some(wide::HingePass::Solve),
-            Pass::Relax => Some(wide::HingePass::Relax),
-            _ => None,
+            Pass::WarmStart => wide::HingePass::WarmStart,
+            Pass::Solve => wide::HingePass::Solve,
+            Pass::Relax => wide::HingePass::Relax,
+            _ => return,
+        };
+        let one = |joint: &mut Joint| match pass {
+            wide::HingePass::WarmStart => joint.warm_start(states),
+            wide::HingePass::Solve => joint.solve(states, &ctx, true),
+            wide::HingePass::Relax => joint.solve(states, &ctx, false),
         };
         // A colour's free hinges eight at a time where eight come in a row (the same bits as
         // one at a time); the overflow's joints may share bodies, so they stay one by one.
-        let Some(pass) = pass.filter(|_| self.use_wide && stage.color != 0) else {
+        if !self.use_wide || stage.color == 0 {
             joints.iter_mut().for_each(one);
             return;
-        };
+        }
         let mut k = 0;
         while k < joints.len() {
             let group = k..k + LANES;

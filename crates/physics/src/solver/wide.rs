@@ -753,7 +753,7 @@ fn apply_restitution_with<V: Lanes>(
     }
 }
 
-/// A pass of the joint solver, for [`hinges`].
+/// A pass of the joint solver: of each joint in turn, and of [`hinges`] eight at a time.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum HingePass {
     /// Apply the accumulated impulses again.

@@ -856,9 +856,8 @@ impl World {
 
 /// Contact recycling (Box2D v3 `b2CollideTask`): when the pair's relative pose barely
 /// changed since the manifold was computed (and, for a fast body, under the rule below),
-/// keep its normal, anchors,
-/// ids and impulses, and refresh only each point's separation from the motion since, as the
-/// substeps do. This skips most of the narrow phase in resting piles and removes jitter.
+/// keep its normal, anchors, ids and impulses, and refresh only each point's separation from
+/// the motion since, as the substeps do. This skips most of the narrow phase in resting piles and removes jitter.
 fn recycle(c: &mut Contact, sa: &BodySim, sb: &BodySim, closing: impl FnOnce() -> f32) -> bool {
     let Some(cache) = c.cache else {
         return false;

@@ -545,15 +545,8 @@ fn user_data_tags_a_body_until_it_is_destroyed_and_survives_a_snapshot() {
     assert_eq!(w.user_data(again).unwrap(), 0);
 }
 
-/// Contact recycling and fast bodies (`step::recycle`). Two 1 m boxes, one on the other,
-/// flying together at 30 m/s without gravity: each moves 0.5 m a step, twice its half
-/// thickness, so both are fast, yet they barely move relative to each other and their
-/// contact keeps its manifold (each step after the first is recycled). A 4 cm box sliding
-/// at 1.2 m/s on a static floor without friction moves 2 cm a step: fast against its 2 cm
-/// half thickness, and within the 5 cm recycling distance of where its manifold was made, so
-/// only the rule for fast bodies recomputes it (every step).
-#[test]
-fn fast_bodies_recycle_contacts_with_each_other_but_not_with_static_ground() {
+/// Two 1 m boxes flying at 30 m/s along x without gravity, A at the origin and B at `b`.
+fn flying_pair(b: [f32; 2]) -> World {
     let unit = ShapeDef::Box {
         half_extents: [0.5, 0.5],
         radius: 0.0,
@@ -564,8 +557,21 @@ fn fast_bodies_recycle_contacts_with_each_other_but_not_with_static_ground() {
     });
     w.add_body(&BodyDef::new(unit.clone()).velocity(30.0, 0.0))
         .unwrap();
-    w.add_body(&BodyDef::new(unit).at(0.0, 1.0).velocity(30.0, 0.0))
+    w.add_body(&BodyDef::new(unit).at(b[0], b[1]).velocity(30.0, 0.0))
         .unwrap();
+    w
+}
+
+/// Contact recycling and fast bodies (`step::recycle`). Two 1 m boxes, one on the other,
+/// flying together at 30 m/s without gravity: each moves 0.5 m a step, twice its half
+/// thickness, so both are fast, yet they barely move relative to each other and their
+/// contact keeps its manifold (each step after the first is recycled). A 4 cm box sliding
+/// at 1.2 m/s on a static floor without friction moves 2 cm a step: fast against its 2 cm
+/// half thickness, and within the 5 cm recycling distance of where its manifold was made, so
+/// only the rule for fast bodies recomputes it (every step).
+#[test]
+fn fast_bodies_recycle_contacts_with_each_other_but_not_with_static_ground() {
+    let mut w = flying_pair([0.0, 1.0]);
     let mut recycled = 0;
     for _ in 0..10 {
         w.step(1.0 / 60.0, 4);
@@ -612,18 +618,7 @@ fn fast_bodies_recycle_contacts_with_each_other_but_not_with_static_ground() {
 /// would sink 7 cm into A before the pair moved far enough to be recomputed.
 #[test]
 fn a_fast_pair_that_starts_closing_is_not_recycled() {
-    let unit = ShapeDef::Box {
-        half_extents: [0.5, 0.5],
-        radius: 0.0,
-    };
-    let mut w = World::new(StepSettings {
-        gravity: Vec2::ZERO,
-        ..StepSettings::default()
-    });
-    w.add_body(&BodyDef::new(unit.clone()).velocity(30.0, 0.0))
-        .unwrap();
-    w.add_body(&BodyDef::new(unit).at(1.03, 0.0).velocity(30.0, 0.0))
-        .unwrap();
+    let mut w = flying_pair([1.03, 0.0]);
     let mut recycled = 0;
     for _ in 0..5 {
         w.step(1.0 / 60.0, 4);
