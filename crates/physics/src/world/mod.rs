@@ -296,9 +296,9 @@ struct ContactCache {
     q_b: Rot,
     /// B's pose in A's frame.
     relative: Transform,
-    /// The closing speed (m/s, a bound over the pair's points) the manifold covers; below
-    /// zero when it left out a point (`step::recycle`). A snapshot without it loads 0: a fast
-    /// pair then computes its manifold afresh.
+    /// The closing speed (m/s, a bound over the pair's points) the manifold covers: the
+    /// speed it was made at, or less when it left out a point (`step::recycle`). A snapshot
+    /// without it loads 0: a fast pair then computes its manifold afresh.
     #[serde(default)]
     closing_limit: f32,
 }

@@ -446,6 +446,11 @@ impl World {
             // what is faster): a turning drum's rim, fast along its surface but not towards
             // it, then makes no speculative points for every body near it.
             let mut kept = 0;
+            // The manifold holds every point within reach of a pair closing at up to
+            // `closing`; a dropped point at gap g stays out of reach while the pair closes
+            // slower than (g - speculative distance) / dt, so the manifold is good (for
+            // `recycle`) up to the least of these.
+            let mut closing_limit = closing;
             for k in 0..m.count {
                 let p = m.points[k];
                 let dv = (vb.v + cross_sv(vb.w, p.anchor_b)) - (va.v + cross_sv(va.w, p.anchor_a));
@@ -453,11 +458,10 @@ impl World {
                 if p.separation + dt * approach <= SPECULATIVE_DISTANCE {
                     m.points[kept] = p;
                     kept += 1;
+                } else {
+                    closing_limit = closing_limit.min((p.separation - SPECULATIVE_DISTANCE) / dt);
                 }
             }
-            // The manifold holds every point within reach of a pair closing at up to
-            // `closing`, unless the filter above dropped one (see `recycle`).
-            let closing_limit = if kept == m.count { closing } else { -1.0 };
             m.count = kept;
             c.manifold = m;
             c.cache = Some(ContactCache {
@@ -868,8 +872,8 @@ fn recycle(c: &mut Contact, sa: &BodySim, sb: &BodySim, closing: impl FnOnce() -
     // Two fast dynamic bodies moving together (washer's tumbling pile) keep their manifold,
     // as Box2D v3.2's `b2CollideTask` keeps it, while it still covers how fast they can
     // close: tumble's manifold holds the points a pair can reach at the closing speed it was
-    // made with (its speculative margin grows with it), so a pair that can now close faster,
-    // or whose manifold left out a point that was not approaching then, is recomputed.
+    // made with (its speculative margin grows with it), less any point it left out for not
+    // approaching then, so a pair that can now close faster than that is recomputed.
     if sa.fast || sb.fast {
         let dynamic = sa.kind == BodyKind::Dynamic && sb.kind == BodyKind::Dynamic;
         if !dynamic || closing() > cache.closing_limit {

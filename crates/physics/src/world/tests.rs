@@ -639,3 +639,25 @@ fn a_fast_pair_that_starts_closing_is_not_recycled() {
         w.step(1.0 / 60.0, 4);
     }
 }
+
+/// A manifold that left out a point (not approaching when it was made) still covers every
+/// closing speed too slow to bring that point within the speculative distance in one step
+/// (`step::recycle`). Two 1 m boxes flying side by side at 30 m/s, 2.2 cm apart, B sliding
+/// along A's face at 0.6 m/s: the closing bound (0.6 m/s) reaches the face points, but they
+/// do not approach and are dropped; the manifold covers closing speeds below
+/// (2.2 - 2) cm / dt = 0.12 m/s. At 0.06 m/s it is kept; when B turns towards A at 0.3 m/s
+/// (0.5 cm a step, within the recycling distance) it must be made again, with its points.
+#[test]
+fn a_manifold_that_dropped_a_point_is_recycled_only_below_that_points_reach() {
+    let mut w = flying_pair([1.022, 0.0]);
+    w.set_velocity(1, Vec2::new(30.0, 0.6), 0.0);
+    w.step(1.0 / 60.0, 4);
+    assert_eq!((w.contact_count(), w.profile().touching), (1, 0));
+    w.set_velocity(1, Vec2::new(30.0, 0.06), 0.0);
+    w.step(1.0 / 60.0, 4);
+    assert!(w.sims.iter().all(|s| s.fast));
+    assert_eq!((w.profile().recycled, w.profile().touching), (1, 0));
+    w.set_velocity(1, Vec2::new(29.7, 0.06), 0.0);
+    w.step(1.0 / 60.0, 4);
+    assert_eq!((w.profile().recycled, w.profile().touching), (0, 1));
+}
