@@ -32,6 +32,12 @@ use crate::solver::{SolverParams, SubstepParams, Touching};
 const RECYCLE_DISTANCE: f32 = 10.0 * crate::LINEAR_SLOP;
 /// ...and whose bodies each turned less than about 11.5° (`B2_CONTACT_RECYCLE_COS_ANGLE`).
 const RECYCLE_COS_ANGLE: f32 = 0.98;
+/// A manifold is computed out to the gap a pair closing this many times faster than now
+/// could cross in a step; the points past the step's own reach are dropped below, so the
+/// manifold is the same, but it stays good for `recycle` while a tumbling pair's closing
+/// bound (which jitters step to step) at most doubles. Measured on washer: twice recycles
+/// 88% of its contacts (81% at once), three times no more.
+const CLOSING_HEADROOM: f32 = 2.0;
 
 impl World {
     /// Advances the world by `dt` seconds in `substeps` solver substeps.
@@ -405,10 +411,10 @@ impl World {
                 return (1, usize::from(key.touching != was));
             }
             // Speculative margin: how far the pair can close in one step, so bodies meet
-            // without tunnelling at ordinary speeds.
+            // without tunnelling at ordinary speeds (with headroom: see `CLOSING_HEADROOM`).
             let (va, vb) = (&states[a], &states[b]);
             let closing = closing();
-            let max_distance = SPECULATIVE_DISTANCE + dt * closing;
+            let max_distance = SPECULATIVE_DISTANCE + dt * closing * CLOSING_HEADROOM;
             let old = c.manifold;
             let (ra, rb) = (&records[sa], &records[sb]);
             // A shape off its body's centre collides at its own pose; its anchors are then
@@ -446,11 +452,11 @@ impl World {
             // what is faster): a turning drum's rim, fast along its surface but not towards
             // it, then makes no speculative points for every body near it.
             let mut kept = 0;
-            // The manifold holds every point within reach of a pair closing at up to
-            // `closing`; a dropped point at gap g stays out of reach while the pair closes
-            // slower than (g - speculative distance) / dt, so the manifold is good (for
-            // `recycle`) up to the least of these.
-            let mut closing_limit = closing;
+            // The manifold holds every point within reach of a pair closing at up to the
+            // headroom times `closing`; a dropped point at gap g stays out of reach while the
+            // pair closes slower than (g - speculative distance) / dt, so the manifold is good
+            // (for `recycle`) up to the least of these.
+            let mut closing_limit = closing * CLOSING_HEADROOM;
             for k in 0..m.count {
                 let p = m.points[k];
                 let dv = (vb.v + cross_sv(vb.w, p.anchor_b)) - (va.v + cross_sv(va.w, p.anchor_a));

@@ -494,12 +494,16 @@ fn a_restored_snapshot_continues_bit_for_bit() {
     let text = serde_json::to_string(&w.snapshot()).unwrap();
     let mut restored = World::from_snapshot(serde_json::from_str(&text).unwrap()).unwrap();
     restored.set_thread_count(1);
+    // The pile settles and falls asleep within these steps: the most touching pairs seen
+    // shows the snapshot carried a pile in contact, not bodies in flight.
+    let mut touching = 0;
     for _ in 0..90 {
         w.step(1.0 / 60.0, 4);
         restored.step(1.0 / 60.0, 4);
+        touching = touching.max(w.profile().touching);
+        assert_eq!(w.state_hash(), restored.state_hash());
     }
-    assert!(w.profile().touching > 5);
-    assert_eq!(w.state_hash(), restored.state_hash());
+    assert!(touching > 5);
     assert_eq!(w.step_count(), restored.step_count());
 }
 
