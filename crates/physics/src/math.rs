@@ -6,6 +6,20 @@
 use glam::Vec2;
 use serde::{Deserialize, Serialize};
 
+/// A&S 4.4.49's a2 to a16, for [`atan2`] and its eight-lane twin (`solver::lanes::atan2`).
+// The coefficients as A&S print them (f32 rounds them), so they can be checked against it.
+#[allow(clippy::excessive_precision)]
+pub(crate) const ATAN_COEFFICIENTS: [f32; 8] = [
+    -0.333_331_452_8,
+    0.199_935_508_5,
+    -0.142_088_994_4,
+    0.106_562_639_3,
+    -0.075_289_64,
+    0.042_909_613_8,
+    -0.016_165_736_7,
+    0.002_866_225_7,
+];
+
 /// The angle of the point (x, y) from the x axis, in [-π, π]; 0 at the origin. The arctangent
 /// on [0, 1] is the minimax polynomial of Abramowitz and Stegun 4.4.49 (error ≤ 2·10⁻⁸ rad in
 /// exact arithmetic; measured within 3·10⁻⁷ rad of f64's in f32, below), folded to the full
@@ -13,8 +27,6 @@ use serde::{Deserialize, Serialize};
 /// platform and build (the C library's `atan2f` differs between them), and about three times
 /// cheaper, which the joints' angle rows, solved eight times a step, feel.
 #[inline]
-// The coefficients as A&S print them (f32 rounds them), so they can be checked against it.
-#[allow(clippy::excessive_precision)]
 pub fn atan2(y: f32, x: f32) -> f32 {
     use std::f32::consts::{FRAC_PI_2, PI};
     let (ax, ay) = (x.abs(), y.abs());
@@ -30,10 +42,11 @@ pub fn atan2(y: f32, x: f32) -> f32 {
     // dependent operations, where Horner's rule is one long one.
     let s2 = t2 * t2;
     let s4 = s2 * s2;
-    let e0 = -0.333_331_452_8_f32 + 0.199_935_508_5 * t2;
-    let e1 = -0.142_088_994_4_f32 + 0.106_562_639_3 * t2;
-    let e2 = -0.075_289_64_f32 + 0.042_909_613_8 * t2;
-    let e3 = -0.016_165_736_7_f32 + 0.002_866_225_7 * t2;
+    let a = ATAN_COEFFICIENTS;
+    let e0 = a[0] + a[1] * t2;
+    let e1 = a[2] + a[3] * t2;
+    let e2 = a[4] + a[5] * t2;
+    let e3 = a[6] + a[7] * t2;
     let p = (e0 + e1 * s2) + (e2 + e3 * s2) * s4;
     let mut r = t + t * (p * t2);
     if ay > ax {

@@ -254,12 +254,15 @@ impl Joint {
         }
     }
 
-    /// A hinge with no limit, motor or spring: its only rows are the shared point's, which
-    /// the solver takes eight at a time (`solver::wide::hinges`).
+    /// A hinge's (revolute joint's) angular rows this step (`Revolute::rows`), or `None`
+    /// for another joint: the solver takes hinges eight at a time
+    /// (`solver::wide_hinge::hinges`).
     #[inline]
-    pub(crate) fn free_hinge(&self) -> bool {
-        matches!(&self.kind, JointKind::Revolute(r)
-            if r.limit.is_none() && r.motor.is_none() && r.spring.is_none())
+    pub(crate) fn hinge_rows(&self) -> Option<u8> {
+        match &self.kind {
+            JointKind::Revolute(r) => Some(r.rows),
+            _ => None,
+        }
     }
 
     /// This joint's hinge; only for a revolute joint.

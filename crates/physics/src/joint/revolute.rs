@@ -26,9 +26,13 @@ pub struct Revolute {
     pub(crate) lower_impulse: f32,
     pub(crate) upper_impulse: f32,
     #[serde(skip)]
-    pub(super) axial_mass: f32,
+    pub(crate) axial_mass: f32,
     #[serde(skip)]
-    pub(super) spring_softness: Softness,
+    pub(crate) spring_softness: Softness,
+    /// Which angular rows `solve` runs this step ([`Revolute::SPRING`], [`Revolute::MOTOR`],
+    /// [`Revolute::LIMIT`]): none where neither body can turn. Set by `prepare`.
+    #[serde(skip)]
+    pub(crate) rows: u8,
 }
 
 impl Revolute {
@@ -37,8 +41,20 @@ impl Revolute {
         Revolute::default()
     }
 
+    /// `rows`' bit for the spring.
+    pub(crate) const SPRING: u8 = 1;
+    /// `rows`' bit for the motor.
+    pub(crate) const MOTOR: u8 = 2;
+    /// `rows`' bit for the limit.
+    pub(crate) const LIMIT: u8 = 4;
+
     pub(super) fn prepare(&mut self, s: &JointStep, ctx: &JointContext) {
         self.axial_mass = inverse(s.inv_i_a + s.inv_i_b);
+        let turns = s.inv_i_a + s.inv_i_b != 0.0;
+        let row = |on: bool, bit: u8| if on && turns { bit } else { 0 };
+        self.rows = row(self.spring.is_some(), Self::SPRING)
+            | row(self.motor.is_some(), Self::MOTOR)
+            | row(self.limit.is_some(), Self::LIMIT);
         self.spring_softness = Spring::softness(self.spring, ctx.h);
         if !ctx.warm_starting {
             self.reset();

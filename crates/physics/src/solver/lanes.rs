@@ -30,6 +30,8 @@ pub trait Lanes:
     fn store(self) -> f32x8;
     /// Every lane `x`.
     fn splat(x: f32) -> Self;
+    /// The sign bit cleared, as `f32::abs` does it.
+    fn abs(self) -> Self;
     /// `max` as `maxps` does it (the second operand when either is NaN).
     fn fast_max(self, rhs: Self) -> Self;
     /// `min` as `minps` does it.
@@ -60,6 +62,10 @@ impl Lanes for f32x8 {
     #[inline(always)]
     fn splat(x: f32) -> Self {
         f32x8::splat(x)
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        f32x8::abs(self)
     }
     #[inline(always)]
     fn fast_max(self, rhs: Self) -> Self {
@@ -97,6 +103,32 @@ impl Lanes for f32x8 {
 
 #[cfg(target_arch = "x86_64")]
 pub use avx::Avx;
+
+/// [`crate::math::atan2`] in each lane, operation for operation, so the bits are the same.
+#[inline(always)]
+pub fn atan2<V: Lanes>(y: V, x: V) -> V {
+    use std::f32::consts::{FRAC_PI_2, PI};
+    let zero = V::splat(0.0);
+    let (ax, ay) = (x.abs(), y.abs());
+    let steep = ay.gt(ax);
+    let (small, large) = (steep.select(ax, ay), steep.select(ay, ax));
+    let t = small / large;
+    let t2 = t * t;
+    let s2 = t2 * t2;
+    let s4 = s2 * s2;
+    let a = crate::math::ATAN_COEFFICIENTS.map(V::splat);
+    let e0 = a[0] + a[1] * t2;
+    let e1 = a[2] + a[3] * t2;
+    let e2 = a[4] + a[5] * t2;
+    let e3 = a[6] + a[7] * t2;
+    let p = (e0 + e1 * s2) + (e2 + e3 * s2) * s4;
+    let mut r = t + t * (p * t2);
+    r = steep.select(V::splat(FRAC_PI_2) - r, r);
+    r = zero.gt(x).select(V::splat(PI) - r, r);
+    r = zero.gt(y).select(-r, r);
+    // The origin gives 0 (a NaN is not equal to 0, and passes through).
+    large.ne(zero).select(r, zero)
+}
 
 /// Whether this CPU runs the [`Avx`] kernels (checked once; std caches the answer).
 #[inline]
@@ -180,6 +212,10 @@ mod avx {
             Avx(unsafe { _mm256_set1_ps(x) })
         }
         #[inline(always)]
+        fn abs(self) -> Self {
+            Avx(unsafe { _mm256_andnot_ps(_mm256_set1_ps(-0.0), self.0) })
+        }
+        #[inline(always)]
         fn fast_max(self, rhs: Self) -> Self {
             Avx(unsafe { _mm256_max_ps(self.0, rhs.0) })
         }
@@ -212,6 +248,55 @@ mod avx {
         #[inline(always)]
         fn halves(self) -> [f32x4; 2] {
             wide::bytemuck::cast(self.0)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The lanes' arctangent against `math::atan2`, bit for bit: points round the circle at
+    /// three radii, the axes, both zeros, infinities and NaN (a NaN only as a NaN).
+    #[test]
+    fn atan2_in_lanes_is_the_scalar_bit_for_bit() {
+        let mut points = Vec::new();
+        for k in 0..4096 {
+            let a = -std::f32::consts::PI + (k as f32 + 0.5) * std::f32::consts::TAU / 4096.0;
+            for r in [1.0f32, 1e-3, 7e4] {
+                points.push((a.sin() * r, a.cos() * r));
+            }
+        }
+        let (inf, nan) = (f32::INFINITY, f32::NAN);
+        for y in [0.0, -0.0, 1.0, -1.0, inf, -inf, nan] {
+            for x in [0.0, -0.0, 1.0, -1.0, inf, -inf, nan] {
+                points.push((y, x));
+            }
+        }
+        points.resize(points.len().next_multiple_of(8), (0.5, 0.25));
+        let same = |lanes: [f32; 8], group: &[(f32, f32)]| {
+            for (l, &(y, x)) in group.iter().enumerate() {
+                let want = crate::math::atan2(y, x);
+                let got = lanes[l];
+                assert!(
+                    got.to_bits() == want.to_bits() || (got.is_nan() && want.is_nan()),
+                    "atan2({y}, {x}): {got} in lanes, {want} alone"
+                );
+            }
+        };
+        for group in points.chunks_exact(8) {
+            let y = f32x8::new(std::array::from_fn(|l| group[l].0));
+            let x = f32x8::new(std::array::from_fn(|l| group[l].1));
+            same(atan2(y, x).to_array(), group);
+            #[cfg(target_arch = "x86_64")]
+            if avx2_available() {
+                // SAFETY: the CPU has AVX2 (checked just above).
+                #[target_feature(enable = "avx2")]
+                fn wide(y: f32x8, x: f32x8) -> f32x8 {
+                    atan2(Avx::load(y), Avx::load(x)).store()
+                }
+                same(unsafe { wide(y, x) }.to_array(), group);
+            }
         }
     }
 }

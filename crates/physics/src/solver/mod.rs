@@ -14,6 +14,7 @@ pub mod contact_solver;
 pub mod graph_color;
 pub mod lanes;
 pub mod wide;
+pub mod wide_hinge;
 
 use std::ops::Range;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -1071,17 +1072,17 @@ impl Passes<'_> {
         // other block of the stage writes (the colouring).
         let joints = unsafe { self.joints.range_mut(range) };
         let pass = match stage.pass {
-            Pass::WarmStart => wide::HingePass::WarmStart,
-            Pass::Solve => wide::HingePass::Solve,
-            Pass::Relax => wide::HingePass::Relax,
+            Pass::WarmStart => wide_hinge::HingePass::WarmStart,
+            Pass::Solve => wide_hinge::HingePass::Solve,
+            Pass::Relax => wide_hinge::HingePass::Relax,
             _ => return,
         };
         let one = |joint: &mut Joint| match pass {
-            wide::HingePass::WarmStart => joint.warm_start(states),
-            wide::HingePass::Solve => joint.solve(states, &ctx, true),
-            wide::HingePass::Relax => joint.solve(states, &ctx, false),
+            wide_hinge::HingePass::WarmStart => joint.warm_start(states),
+            wide_hinge::HingePass::Solve => joint.solve(states, &ctx, true),
+            wide_hinge::HingePass::Relax => joint.solve(states, &ctx, false),
         };
-        // A colour's free hinges eight at a time where eight come in a row (the same bits as
+        // A colour's hinges eight at a time where eight come in a row (the same bits as
         // one at a time); the overflow's joints may share bodies, so they stay one by one.
         if !self.use_wide || stage.color == 0 {
             joints.iter_mut().for_each(one);
@@ -1090,9 +1091,17 @@ impl Passes<'_> {
         let mut k = 0;
         while k < joints.len() {
             let group = k..k + LANES;
-            if group.end <= joints.len() && joints[group.clone()].iter().all(Joint::free_hinge) {
-                wide::hinges(&mut joints[group.clone()], states, pass, self.use_avx);
-                k = group.end;
+            let rows = joints.get(group.clone()).and_then(|g| {
+                let g: &[Joint; LANES] = g.try_into().ok()?;
+                let rows = g.each_ref().map(Joint::hinge_rows);
+                rows.iter()
+                    .all(Option::is_some)
+                    .then(|| rows.map(|r| r.unwrap_or(0)))
+            });
+            if let Some(rows) = rows {
+                let group = &mut joints[group];
+                wide_hinge::hinges(group, rows, states, pass, &ctx, self.use_avx);
+                k += LANES;
             } else {
                 one(&mut joints[k]);
                 k += 1;

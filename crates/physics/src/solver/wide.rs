@@ -6,10 +6,7 @@
 //! A colour never holds two constraints on one dynamic body, so lanes never conflict. The
 //! overflow, whose constraints may share bodies, stays on the scalar path.
 //!
-//! Free hinges (revolute joints with no limit, motor or spring) go eight at a time too
-//! ([`hinges`]): measured on `joint_grid` (19,794 of them), its substeps 3.6 -> 2.0 ms at one
-//! thread and 2.0 -> 1.05 ms at two, the same bits. Other joints stay scalar (Box2D v3 solves
-//! every joint one at a time).
+//! Hinges go eight at a time too, in `wide_hinge.rs`, on the gather and scatter here.
 
 use std::marker::PhantomData;
 
@@ -22,7 +19,6 @@ use super::contact_solver::{BodyState, Softness, point_terms};
 #[cfg(target_arch = "x86_64")]
 use super::lanes::Avx;
 use super::lanes::Lanes;
-use crate::joint::Joint;
 use crate::parallel::BodyStates;
 
 /// Lanes per wide constraint.
@@ -403,21 +399,21 @@ impl WideConstraint {
 }
 
 /// Eight bodies' states, one per lane.
-struct WideBody<V> {
-    vx: V,
-    vy: V,
-    w: V,
-    dpx: V,
-    dpy: V,
-    dqc: V,
-    dqs: V,
+pub(super) struct WideBody<V> {
+    pub vx: V,
+    pub vy: V,
+    pub w: V,
+    pub dpx: V,
+    pub dpy: V,
+    pub dqc: V,
+    pub dqs: V,
 }
 
 /// Loads eight bodies' states into lanes: each state's two 16-byte halves are loaded whole and
 /// transposed four at a time (Box2D's `b2GatherBodies` does the same with SSE), rather than
 /// assembled float by float, which stalls on store forwarding.
 #[inline(always)]
-fn gather<V: Lanes>(states: &BodyStates<'_>, index: &[u32; LANES]) -> WideBody<V> {
+pub(super) fn gather<V: Lanes>(states: &BodyStates<'_>, index: &[u32; LANES]) -> WideBody<V> {
     let mut motion = [[f32x4::ZERO; 4]; 2];
     let mut delta = [[f32x4::ZERO; 4]; 2];
     for l in 0..LANES {
@@ -441,7 +437,12 @@ fn gather<V: Lanes>(states: &BodyStates<'_>, index: &[u32; LANES]) -> WideBody<V
 /// Writes the velocities of the dynamic lanes back (static and kinematic bodies are shared
 /// between lanes and constraints of a colour, and are never written).
 #[inline(always)]
-fn scatter<V: Lanes>(states: &BodyStates<'_>, index: &[u32; LANES], dynamic: u8, b: &WideBody<V>) {
+pub(super) fn scatter<V: Lanes>(
+    states: &BodyStates<'_>,
+    index: &[u32; LANES],
+    dynamic: u8,
+    b: &WideBody<V>,
+) {
     if dynamic == 0 {
         return;
     }
@@ -750,127 +751,5 @@ fn apply_restitution_with<V: Lanes>(
         }
         scatter(states, &c.body_a, c.dynamic_a, &a);
         scatter(states, &c.body_b, c.dynamic_b, &b);
-    }
-}
-
-/// A pass of the joint solver: of each joint in turn, and of [`hinges`] eight at a time.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum HingePass {
-    /// Apply the accumulated impulses again.
-    WarmStart,
-    /// The soft solve, which also removes position error.
-    Solve,
-    /// The rigid relax pass.
-    Relax,
-}
-
-/// One pass over free hinges ([`Joint::free_hinge`]: a revolute joint's shared point, its
-/// only rows), eight at a time: `joints` holds whole groups of eight from one colour (no two
-/// share a dynamic body). Each lane does the arithmetic of `Revolute::solve` and
-/// `Revolute::warm_start` in the same order, so the bits are the scalar path's; the joints'
-/// data is read into lanes as it is used (the joints stay the solver's live copies).
-pub fn hinges(joints: &mut [Joint], states: &BodyStates<'_>, pass: HingePass, use_avx: bool) {
-    dispatch!(use_avx, hinges_with, hinges_avx2, (joints, states, pass))
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn hinges_avx2(joints: &mut [Joint], states: &BodyStates<'_>, pass: HingePass) {
-    hinges_with::<Avx>(joints, states, pass)
-}
-
-#[inline(always)]
-fn hinges_with<V: Lanes>(joints: &mut [Joint], states: &BodyStates<'_>, pass: HingePass) {
-    debug_assert!(joints.len().is_multiple_of(LANES) && joints.iter().all(Joint::free_hinge));
-    for group in joints.chunks_exact_mut(LANES) {
-        // One field of the eight joints, in lanes.
-        macro_rules! lanes {
-            ($j:ident => $e:expr) => {
-                V::load(f32x8::new(std::array::from_fn(|l| {
-                    let $j: &Joint = &group[l];
-                    $e
-                })))
-            };
-        }
-        let body_a: [u32; LANES] = std::array::from_fn(|l| group[l].body_a);
-        let body_b: [u32; LANES] = std::array::from_fn(|l| group[l].body_b);
-        let dynamic = |side: fn(&Joint) -> bool| {
-            (0..LANES).fold(0u8, |m, l| m | (u8::from(side(&group[l])) << l))
-        };
-        let (dynamic_a, dynamic_b) = (dynamic(|j| j.step.dynamic_a), dynamic(|j| j.step.dynamic_b));
-        let mut a = gather::<V>(states, &body_a);
-        let mut b = gather::<V>(states, &body_b);
-        let (ma, ia) = (lanes!(j => j.step.inv_mass_a), lanes!(j => j.step.inv_i_a));
-        let (mb, ib) = (lanes!(j => j.step.inv_mass_b), lanes!(j => j.step.inv_i_b));
-        let (fax, fay) = (
-            lanes!(j => j.step.frame_a.p.x),
-            lanes!(j => j.step.frame_a.p.y),
-        );
-        let (fbx, fby) = (
-            lanes!(j => j.step.frame_b.p.x),
-            lanes!(j => j.step.frame_b.p.y),
-        );
-        // The anchors turned by the substep rotations (`Rot::apply`).
-        let (rax, ray) = (a.dqc * fax - a.dqs * fay, a.dqs * fax + a.dqc * fay);
-        let (rbx, rby) = (b.dqc * fbx - b.dqs * fby, b.dqs * fbx + b.dqc * fby);
-        let (lix, liy) = (
-            lanes!(j => j.hinge().linear_impulse.x),
-            lanes!(j => j.hinge().linear_impulse.y),
-        );
-        let (px, py, torque) = match pass {
-            HingePass::WarmStart => {
-                let axial = lanes!(j => {
-                    let r = j.hinge();
-                    r.spring_impulse + r.motor_impulse + r.lower_impulse - r.upper_impulse
-                });
-                (lix, liy, axial)
-            }
-            HingePass::Solve | HingePass::Relax => {
-                let zero = V::splat(0.0);
-                // `anchors`: the anchors' separation, B less A.
-                let dcx = lanes!(j => j.step.delta_center.x);
-                let dcy = lanes!(j => j.step.delta_center.y);
-                let dx = ((b.dpx - a.dpx) + dcx) + (rbx - rax);
-                let dy = ((b.dpy - a.dpy) + dcy) + (rby - ray);
-                // `Pair::relative_velocity`, with `cross_sv(w, r) = (-w·r.y, w·r.x)`.
-                let cx = ((b.vx + (-b.w) * rby) - a.vx) - (-a.w) * ray;
-                let cy = ((b.vy + b.w * rbx) - a.vy) - a.w * rax;
-                let (bx, by, mass_scale, impulse_scale) = if pass == HingePass::Solve {
-                    let rate = lanes!(j => j.step.softness.bias_rate);
-                    (
-                        rate * dx,
-                        rate * dy,
-                        lanes!(j => j.step.softness.mass_scale),
-                        lanes!(j => j.step.softness.impulse_scale),
-                    )
-                } else {
-                    (zero, zero, V::splat(1.0), zero)
-                };
-                let (ux, uy) = (cx + bx, cy + by);
-                // `point_mass` and `solve22`.
-                let k11 = ((ma + mb) + ray * ray * ia) + rby * rby * ib;
-                let k12 = (-ray) * rax * ia - rby * rbx * ib;
-                let k22 = ((ma + mb) + rax * rax * ia) + rbx * rbx * ib;
-                let det = k11 * k22 - k12 * k12;
-                let inv = det.ne(zero).select(V::splat(1.0) / det, zero);
-                let (xx, xy) = (inv * (k22 * ux - k12 * uy), inv * (k11 * uy - k12 * ux));
-                let px = (-mass_scale) * xx - impulse_scale * lix;
-                let py = (-mass_scale) * xy - impulse_scale * liy;
-                let (nx, ny) = ((lix + px).store(), (liy + py).store());
-                for (l, j) in group.iter_mut().enumerate() {
-                    j.hinge_mut().linear_impulse = Vec2::new(nx.as_array()[l], ny.as_array()[l]);
-                }
-                (px, py, zero)
-            }
-        };
-        // `Pair::apply`.
-        a.vx -= ma * px;
-        a.vy -= ma * py;
-        a.w -= ia * ((rax * py - ray * px) + torque);
-        b.vx += mb * px;
-        b.vy += mb * py;
-        b.w += ib * ((rbx * py - rby * px) + torque);
-        scatter(states, &body_a, dynamic_a, &a);
-        scatter(states, &body_b, dynamic_b, &b);
     }
 }

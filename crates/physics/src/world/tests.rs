@@ -1,5 +1,5 @@
 use super::*;
-use crate::joint::JointDef;
+use crate::joint::{AngularMotor, JointDef, JointKind, Spring};
 use crate::scene::{BodyDef, ShapeDef};
 
 fn ball_on_ground() -> World {
@@ -393,9 +393,12 @@ fn simd_and_scalar_solvers_agree_bit_for_bit() {
 }
 
 /// A 16 × 16 net of discs hung from a static bar by hinges (each disc joined to the one above
-/// and the one to its left, as in `joint_grid`), every seventh hinge limited to ±0.3 rad so
-/// that runs of free hinges are broken in each colour, swinging under gravity.
-fn hinge_net() -> World {
+/// and the one to its left, as in `joint_grid`), every seventh hinge limited to ±0.3 rad,
+/// swinging under gravity. With `rows`, the limits leave out the start, every third hinge has a
+/// spring (its rest angle within 0.012 rad of ±π for some, so the angle wraps), every fifth a
+/// motor (friction for some, a drive for others), and one disc in eleven cannot turn: every
+/// mix of rows in a group of eight.
+fn hinge_net(rows: bool) -> World {
     let mut w = World::new(StepSettings::default());
     let bar = w
         .add_body(
@@ -421,7 +424,8 @@ fn hinge_net() -> World {
                 .add_body(
                     &BodyDef::new(ShapeDef::Circle { radius: 0.4 })
                         .at(x, y)
-                        .filter(filter),
+                        .filter(filter)
+                        .fixed_rotation(rows && (k * n + i) % 11 == 0),
                 )
                 .unwrap();
             let above = if i == 0 { bar } else { disc - 1 };
@@ -431,28 +435,60 @@ fn hinge_net() -> World {
             }
             for mut def in joints {
                 made += 1;
-                if made % 7 == 0
-                    && let JointDef::Revolute { limit, .. } = &mut def
+                if let JointDef::Revolute {
+                    limit,
+                    spring,
+                    motor,
+                    ..
+                } = &mut def
                 {
-                    *limit = Some([-0.3, 0.3]);
+                    if made % 7 == 0 {
+                        // The net bends its hinges by hundredths of a radian: with rows,
+                        // limits that leave out the start, one side each, so that both bite.
+                        *limit = Some(match (rows, made % 2) {
+                            (false, _) => [-0.3, 0.3],
+                            (true, 0) => [0.005, 0.3],
+                            (true, _) => [-0.3, -0.005],
+                        });
+                    }
+                    if rows && made % 3 == 0 {
+                        *spring = Some(Spring {
+                            hertz: 2.0,
+                            damping_ratio: 0.5,
+                        });
+                    }
+                    if rows && made % 5 == 0 {
+                        *motor = Some(AngularMotor {
+                            speed: if made % 2 == 0 { 0.0 } else { 1.5 },
+                            max_torque: 0.2,
+                        });
+                    }
                 }
-                w.create_joint(&def).unwrap();
+                let id = w.create_joint(&def).unwrap();
+                if rows && made % 6 == 0 {
+                    let JointKind::Revolute(r) = &mut w.joints[id.index as usize].kind else {
+                        unreachable!()
+                    };
+                    r.target_angle = if made % 12 == 0 { 3.13 } else { -3.13 };
+                }
             }
         }
     }
-    // A push sideways, so that the net swings and the limits are reached.
+    // A push sideways, so that the net swings, and a spin each way, so that the limits are
+    // reached and the springs' angles wrap.
     for b in 1..w.body_count() {
-        w.set_velocity(b, Vec2::new(2.0, 0.0), 0.0);
+        let spin = if b % 2 == 0 { 6.0 } else { -6.0 };
+        w.set_velocity(b, Vec2::new(2.0, 0.0), spin);
     }
     w
 }
 
 #[test]
-fn free_hinges_eight_at_a_time_agree_with_one_at_a_time_bit_for_bit() {
+fn hinges_eight_at_a_time_agree_with_one_at_a_time_bit_for_bit() {
     // The hinge kernel does each lane's operations in the order `Revolute::solve` does, so
     // the state and every joint's impulses must match exactly.
-    let run = |simd: bool, avx: bool| {
-        let mut w = hinge_net();
+    let run = |rows: bool, simd: bool, avx: bool| {
+        let mut w = hinge_net(rows);
         w.settings_mut().simd = simd;
         w.solver.use_avx = avx;
         let mut hashes = Vec::new();
@@ -470,9 +506,11 @@ fn free_hinges_eight_at_a_time_agree_with_one_at_a_time_bit_for_bit() {
         assert_eq!(reactions.len(), 16 * 16 + 15 * 16);
         (hashes, reactions)
     };
-    let portable = run(true, false);
-    assert_eq!(run(true, true), portable);
-    assert_eq!(run(false, false), portable);
+    for rows in [false, true] {
+        let portable = run(rows, true, false);
+        assert_eq!(run(rows, true, true), portable);
+        assert_eq!(run(rows, false, false), portable);
+    }
 }
 
 #[test]
