@@ -190,6 +190,16 @@ impl Transform {
     }
 }
 
+/// `x` held within ±`max`, as `f32::clamp(-max, max)` holds it for a bound that is a number
+/// ≥ 0, without its panic on a negative or NaN one (a motor's torque set between steps through
+/// `World::joint_kind_mut` is not checked; a NaN impulse must reach the step's NaN guard):
+/// below the least, then above the most, the selects the eight-lane kernels make.
+#[inline]
+pub(crate) fn clamp_within(x: f32, max: f32) -> f32 {
+    let x = if x < -max { -max } else { x };
+    if x > max { max } else { x }
+}
+
 /// 2D cross product of two vectors (a scalar).
 #[inline]
 pub fn cross(a: Vec2, b: Vec2) -> f32 {

@@ -71,7 +71,7 @@ impl Motor {
             let cdot = p.wb - p.wa + k * angle;
             let max = ctx.h * self.max_torque;
             let old = self.angular_impulse;
-            self.angular_impulse = (old - self.angular_mass * cdot).clamp(-max, max);
+            self.angular_impulse = crate::math::clamp_within(old - self.angular_mass * cdot, max);
             p.turn(s, self.angular_impulse - old);
         }
         let ra = p.dqa.apply(s.frame_a.p);

@@ -191,7 +191,8 @@ impl Prismatic {
             let cdot = speed_along(p, ax.axis, ax.a1, ax.a2);
             let max = ctx.h * motor.max_force;
             let old = self.motor_impulse;
-            self.motor_impulse = (old + axial_mass * (motor.speed - cdot)).clamp(-max, max);
+            self.motor_impulse =
+                crate::math::clamp_within(old + axial_mass * (motor.speed - cdot), max);
             push_along(s, p, ax.axis, ax.a1, ax.a2, self.motor_impulse - old, 0.0);
         }
         if let Some(limit) = self.limit {
@@ -308,7 +309,7 @@ impl Wheel {
             let cdot = p.wb - p.wa - motor.speed;
             let max = ctx.h * motor.max_torque;
             let old = self.motor_impulse;
-            self.motor_impulse = (old - self.motor_mass * cdot).clamp(-max, max);
+            self.motor_impulse = crate::math::clamp_within(old - self.motor_mass * cdot, max);
             p.turn(s, self.motor_impulse - old);
         }
         if self.spring.is_some() {

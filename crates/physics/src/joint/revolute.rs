@@ -101,7 +101,7 @@ impl Revolute {
             let cdot = p.wb - p.wa - motor.speed;
             let max = ctx.h * motor.max_torque;
             let old = self.motor_impulse;
-            self.motor_impulse = (old - self.axial_mass * cdot).clamp(-max, max);
+            self.motor_impulse = crate::math::clamp_within(old - self.axial_mass * cdot, max);
             p.turn(s, self.motor_impulse - old);
         }
         if let (Some([lower, upper]), false) = (self.limit, fixed_rotation) {

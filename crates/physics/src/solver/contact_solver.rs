@@ -328,7 +328,8 @@ pub fn solve(
                 let vt = dot(relative_velocity(a.v, a.w, ra, b.v, b.w, rb), t);
                 let impulse = -p.tangent_mass * vt;
                 let max_friction = c.friction * p.normal_impulse;
-                let new_impulse = (p.tangent_impulse + impulse).clamp(-max_friction, max_friction);
+                let new_impulse =
+                    crate::math::clamp_within(p.tangent_impulse + impulse, max_friction);
                 let applied = new_impulse - p.tangent_impulse;
                 p.tangent_impulse = new_impulse;
                 apply(m, &mut a, &mut b, ra, rb, t * applied);

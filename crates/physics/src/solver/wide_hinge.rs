@@ -279,7 +279,7 @@ fn angular_rows<V: Lanes>(
         let max = V::splat(ctx.h) * lanes!(r => r.motor.map_or(0.0, |m| m.max_torque));
         let old = lanes!(r => r.motor_impulse);
         let cdot = (b.w - a.w) - speed;
-        // `f32::clamp(-max, max)`: below the least, then above the most.
+        // `math::clamp_within`: below the least, then above the most.
         let x = old - axial_mass * cdot;
         let x = (-max).gt(x).select(-max, x);
         let x = x.gt(max).select(max, x);

@@ -296,11 +296,11 @@ struct ContactCache {
     q_b: Rot,
     /// B's pose in A's frame.
     relative: Transform,
-    /// The closing speed (m/s, a bound over the pair's points) the manifold covers: the
-    /// speed it was made at, or less when it left out a point (`step::recycle`). A snapshot
-    /// without it loads 0: a fast pair then computes its manifold afresh.
+    /// How far (m) the pair may close in one step, its closing bound times dt, while the
+    /// manifold still holds every point within reach (`step::recycle`). A snapshot without it
+    /// loads 0: a fast pair that can close at all then computes its manifold afresh.
     #[serde(default)]
-    closing_limit: f32,
+    closing_reach: f32,
 }
 
 #[inline]

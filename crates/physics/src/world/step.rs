@@ -33,10 +33,11 @@ const RECYCLE_DISTANCE: f32 = 10.0 * crate::LINEAR_SLOP;
 /// ...and whose bodies each turned less than about 11.5° (`B2_CONTACT_RECYCLE_COS_ANGLE`).
 const RECYCLE_COS_ANGLE: f32 = 0.98;
 /// A manifold is computed out to the gap a pair closing this many times faster than now
-/// could cross in a step; the points past the step's own reach are dropped below, so the
-/// manifold is the same, but it stays good for `recycle` while a tumbling pair's closing
-/// bound (which jitters step to step) at most doubles. Measured on washer: twice recycles
-/// 88% of its contacts (81% at once), three times no more.
+/// could cross in a step; the points past the step's own reach are dropped below (the kept
+/// points are those of a margin without headroom, but for a spinning pair's point that the
+/// narrower margin missed), and the manifold stays good for `recycle` while a tumbling pair's
+/// closing bound (which jitters step to step) at most doubles. Measured on washer: twice
+/// recycles 88% of its contacts (81% at once), three times no more.
 const CLOSING_HEADROOM: f32 = 2.0;
 
 impl World {
@@ -406,7 +407,7 @@ impl World {
                 let (va, vb) = (&states[a], &states[b]);
                 (vb.v - va.v).length() + va.w.abs() * sims[a].extent + vb.w.abs() * sims[b].extent
             };
-            if recycling && recycle(c, &sims[a], &sims[b], closing) {
+            if recycling && recycle(c, &sims[a], &sims[b], dt, closing) {
                 key.touching = c.manifold.count > 0;
                 return (1, usize::from(key.touching != was));
             }
@@ -452,11 +453,14 @@ impl World {
             // what is faster): a turning drum's rim, fast along its surface but not towards
             // it, then makes no speculative points for every body near it.
             let mut kept = 0;
-            // The manifold holds every point within reach of a pair closing at up to the
-            // headroom times `closing`; a dropped point at gap g stays out of reach while the
-            // pair closes slower than (g - speculative distance) / dt, so the manifold is good
-            // (for `recycle`) up to the least of these.
-            let mut closing_limit = closing * CLOSING_HEADROOM;
+            // How far the pair may close in a step (its closing bound times dt) while this
+            // manifold still holds every point the filter below would keep: a point at gap g
+            // stays out while that is under (g - speculative distance) / lever(g), for the
+            // points not computed (g past `max_distance`) and for each one dropped. A point's
+            // anchors lie midway across its gap, up to g/2 past the body's extent that the
+            // closing bound turns on, so its own approach is at most the bound times `lever`.
+            let lever = |gap: f32| 1.0 + gap / (2.0 * sims[a].extent.min(sims[b].extent));
+            let mut closing_reach = (max_distance - SPECULATIVE_DISTANCE) / lever(max_distance);
             for k in 0..m.count {
                 let p = m.points[k];
                 let dv = (vb.v + cross_sv(vb.w, p.anchor_b)) - (va.v + cross_sv(va.w, p.anchor_a));
@@ -465,7 +469,9 @@ impl World {
                     m.points[kept] = p;
                     kept += 1;
                 } else {
-                    closing_limit = closing_limit.min((p.separation - SPECULATIVE_DISTANCE) / dt);
+                    // One ulp under: at exactly this reach the filter would keep the point.
+                    let reach = (p.separation - SPECULATIVE_DISTANCE) / lever(p.separation);
+                    closing_reach = closing_reach.min(reach.next_down());
                 }
             }
             m.count = kept;
@@ -474,7 +480,7 @@ impl World {
                 q_a: xa.q,
                 q_b: xb.q,
                 relative: xa.inv_mul(xb),
-                closing_limit,
+                closing_reach,
             });
             key.touching = m.count > 0;
             (0, usize::from(key.touching != was))
@@ -868,7 +874,13 @@ impl World {
 /// changed since the manifold was computed (and, for a fast body, under the rule below),
 /// keep its normal, anchors, ids and impulses, and refresh only each point's separation from
 /// the motion since, as the substeps do. This skips most of the narrow phase in resting piles and removes jitter.
-fn recycle(c: &mut Contact, sa: &BodySim, sb: &BodySim, closing: impl FnOnce() -> f32) -> bool {
+fn recycle(
+    c: &mut Contact,
+    sa: &BodySim,
+    sb: &BodySim,
+    dt: f32,
+    closing: impl FnOnce() -> f32,
+) -> bool {
     let Some(cache) = c.cache else {
         return false;
     };
@@ -876,13 +888,14 @@ fn recycle(c: &mut Contact, sa: &BodySim, sb: &BodySim, closing: impl FnOnce() -
     // shapes, which continuous collision sweeps it against) are recomputed every step, as
     // Box2D does for every contact of a fast body since its "Tunable ccd" change (PR #1093).
     // Two fast dynamic bodies moving together (washer's tumbling pile) keep their manifold,
-    // as Box2D v3.2's `b2CollideTask` keeps it, while it still covers how fast they can
-    // close: tumble's manifold holds the points a pair can reach at the closing speed it was
-    // made with (its speculative margin grows with it), less any point it left out for not
-    // approaching then, so a pair that can now close faster than that is recomputed.
+    // as Box2D v3.2's `b2CollideTask` keeps it, while it still covers how far they can
+    // close in this step: tumble's manifold holds the points within its speculative margin,
+    // which grows with the closing speed it was made at, less any point it left out for not
+    // approaching then (`ContactCache::closing_reach`); a pair that can now close farther in
+    // a step (faster, or over a longer step) is recomputed.
     if sa.fast || sb.fast {
         let dynamic = sa.kind == BodyKind::Dynamic && sb.kind == BodyKind::Dynamic;
-        if !dynamic || closing() > cache.closing_limit {
+        if !dynamic || dt * closing() > cache.closing_reach {
             return false;
         }
     }

@@ -396,7 +396,8 @@ fn simd_and_scalar_solvers_agree_bit_for_bit() {
 /// and the one to its left, as in `joint_grid`), every seventh hinge limited to ±0.3 rad,
 /// swinging under gravity. With `rows`, the limits leave out the start, every third hinge has a
 /// spring (its rest angle within 0.012 rad of ±π for some, so the angle wraps), every fifth a
-/// motor (friction for some, a drive for others), and one disc in eleven cannot turn: every
+/// motor (friction for some, a drive for others), and one disc in eleven cannot turn (its
+/// hinges turn its neighbour alone): every
 /// mix of rows in a group of eight.
 fn hinge_net(rows: bool) -> World {
     let mut w = World::new(StepSettings::default());
@@ -683,23 +684,64 @@ fn a_fast_pair_that_starts_closing_is_not_recycled() {
 }
 
 /// A manifold that left out a point (not approaching when it was made) still covers every
-/// closing speed too slow to bring that point within the speculative distance in one step
+/// closing distance in a step too short to bring that point within the speculative distance
 /// (`step::recycle`). Two 1 m boxes flying side by side at 30 m/s, 2.2 cm apart, B sliding
-/// along A's face at 0.6 m/s: the closing bound (0.6 m/s) reaches the face points, but they
-/// do not approach and are dropped; the manifold covers closing speeds below
-/// (2.2 - 2) cm / dt = 0.12 m/s. At 0.06 m/s it is kept; when B turns towards A at 0.3 m/s
-/// (0.5 cm a step, within the recycling distance) it must be made again, with its points.
+/// along A's face at 0.6 m/s: the closing bound (1 cm a step) reaches the face points, but
+/// they do not approach and are dropped; the manifold covers closing by less than about
+/// (2.2 - 2) cm a step (a little less for the lever of the anchors, midway across the gap).
+/// At 0.06 m/s (0.1 cm a step) it is kept. When B turns towards A at 0.3 m/s it must be made
+/// again, with its points: the recycling distance does not decide it, B having slid 1.1 cm
+/// of the 2 cm an empty manifold allows.
 #[test]
 fn a_manifold_that_dropped_a_point_is_recycled_only_below_that_points_reach() {
-    let mut w = flying_pair([1.022, 0.0]);
-    w.set_velocity(1, Vec2::new(30.0, 0.6), 0.0);
-    w.step(1.0 / 60.0, 4);
-    assert_eq!((w.contact_count(), w.profile().touching), (1, 0));
-    w.set_velocity(1, Vec2::new(30.0, 0.06), 0.0);
+    let start = || {
+        let mut w = flying_pair([1.022, 0.0]);
+        w.set_velocity(1, Vec2::new(30.0, 0.6), 0.0);
+        w.step(1.0 / 60.0, 4);
+        assert_eq!((w.contact_count(), w.profile().touching), (1, 0));
+        w.set_velocity(1, Vec2::new(30.0, 0.06), 0.0);
+        w
+    };
+    let mut w = start();
     w.step(1.0 / 60.0, 4);
     assert!(w.sims.iter().all(|s| s.fast));
     assert_eq!((w.profile().recycled, w.profile().touching), (1, 0));
     w.set_velocity(1, Vec2::new(29.7, 0.06), 0.0);
     w.step(1.0 / 60.0, 4);
     assert_eq!((w.profile().recycled, w.profile().touching), (0, 1));
+    // The reach is a distance: the same 0.06 m/s over a step four times as long closes
+    // 0.4 cm, past it, so the manifold is made again (a bound on speed alone kept it).
+    let mut w = start();
+    w.step(4.0 / 60.0, 4);
+    assert_eq!(w.profile().recycled, 0);
+}
+
+/// A motor's most torque or force set below zero or to NaN between steps (through
+/// `joint_kind_mut`, which does not check it) steps without a panic (`f32::clamp` panics on
+/// such a bound; `math::clamp_within` does not), and leaves the world finite.
+#[test]
+fn a_motor_given_a_bad_torque_at_run_time_does_not_panic() {
+    for (bad, simd) in [
+        (-1.0, false),
+        (f32::NAN, false),
+        (-1.0, true),
+        (f32::NAN, true),
+    ] {
+        let mut w = hinge_net(false);
+        w.settings_mut().simd = simd;
+        let ids: Vec<_> = w.joint_ids().collect();
+        for &id in &ids {
+            if let JointKind::Revolute(r) = w.joint_kind_mut(id).unwrap() {
+                r.motor = Some(AngularMotor {
+                    speed: 1.0,
+                    max_torque: bad,
+                });
+            }
+        }
+        for _ in 0..5 {
+            w.step(1.0 / 60.0, 4);
+        }
+        assert_eq!(w.joint_count(), ids.len());
+        assert!((0..w.body_count()).all(|b| w.body(b).position.is_finite()));
+    }
 }
