@@ -397,8 +397,7 @@ fn simd_and_scalar_solvers_agree_bit_for_bit() {
 /// swinging under gravity. With `rows`, the limits leave out the start, every third hinge has a
 /// spring (its rest angle within 0.012 rad of ±π for some, so the angle wraps), every fifth a
 /// motor (friction for some, a drive for others), and one disc in eleven cannot turn (its
-/// hinges turn its neighbour alone): every
-/// mix of rows in a group of eight.
+/// hinges turn its neighbour alone): every mix of rows in a group of eight.
 fn hinge_net(rows: bool) -> World {
     let mut w = World::new(StepSettings::default());
     let bar = w
