@@ -304,6 +304,8 @@ fn angular_rows<V: Lanes>(
         };
         let lower = lanes!(r => r.limit.map_or(0.0, |l| l[0]));
         let upper = lanes!(r => r.limit.map_or(0.0, |l| l[1]));
+        // The two sides are written out: one closure for both (the same bits) made rain's
+        // substeps 1.49 -> 1.96 ms, the compiler keeping less in registers.
         let (bias_l, mass_l, imp_l) = row(angle - lower);
         let cdot = b.w - a.w;
         let old = lanes!(r => r.lower_impulse);
