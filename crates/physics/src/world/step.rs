@@ -651,8 +651,8 @@ impl World {
         let finalize_one = |sim: &mut BodySim, st: &mut BodyState| -> (bool, Option<Transform>) {
             // Box2D `b2FinalizeBodiesTask`: a body that moved more than half its thickness
             // is fast, and its contacts are recomputed rather than recycled unless both
-            // bodies are dynamic and can close no faster than when the manifold was made
-            // (see `recycle`).
+            // bodies are dynamic and can close no farther in this step than the manifold
+            // covers (see `recycle`).
             let max_motion = (st.dp.length() + st.dq.s.abs() * sim.extent)
                 .max((st.v.length() + st.w.abs() * sim.extent) * dt);
             sim.fast = max_motion > 0.5 * sim.min_extent;
@@ -873,7 +873,8 @@ impl World {
 /// Contact recycling (Box2D v3 `b2CollideTask`): when the pair's relative pose barely
 /// changed since the manifold was computed (and, for a fast body, under the rule below),
 /// keep its normal, anchors, ids and impulses, and refresh only each point's separation from
-/// the motion since, as the substeps do. This skips most of the narrow phase in resting piles and removes jitter.
+/// the motion since, as the substeps do. This skips most of the narrow phase in resting
+/// piles and removes jitter.
 fn recycle(
     c: &mut Contact,
     sa: &BodySim,

@@ -652,8 +652,8 @@ fn fast_bodies_recycle_contacts_with_each_other_but_not_with_static_ground() {
     }
 }
 
-/// A recycled manifold covers only the closing speed it was made at (its speculative margin
-/// grows with it). Two 1 m boxes flying side by side at 30 m/s, 3 cm apart, without gravity:
+/// A recycled manifold covers only the closing it was made for (its speculative margin grows
+/// with the pair's closing speed; `ContactCache::closing_reach`). Two 1 m boxes flying side by side at 30 m/s, 3 cm apart, without gravity:
 /// their contact has no point (the gap is past the 2 cm speculative distance and they do not
 /// close) and is recycled step after step. Then B is turned towards A at 6 m/s relative
 /// (10 cm a step): the contact must be made again at once, with a speculative point, or B
