@@ -34,13 +34,12 @@ fuzz_target!(|data: &[u8]| {
     for _ in 0..30 {
         world.step(scene.dt, scene.substeps);
     }
-    for i in 0..world.body_count() {
-        let b = world.body(i);
+    for (id, b) in world.bodies() {
         assert!(
             b.position.is_finite()
                 && b.linear_velocity.is_finite()
                 && b.angular_velocity.is_finite(),
-            "body {i} went non-finite: {b:?}"
+            "{id} went non-finite: {b:?}"
         );
     }
     // The step's NaN guard stops a body that turns non-finite and leaves it finite, so the

@@ -22,7 +22,12 @@ fn run(label: &str, steps: u32, tweak: impl Fn(&mut StepSettings), substeps: u32
                 })
                 .map(|c| {
                     let p = c.manifold.points()[0];
-                    (c.body_a, c.body_b, p.separation, p.normal_velocity)
+                    (
+                        c.body_a.index as usize,
+                        c.body_b.index as usize,
+                        p.separation,
+                        p.normal_velocity,
+                    )
                 })
                 .collect();
             losses.push((prev - e, s, touching));

@@ -35,7 +35,7 @@ fn main() {
         settle += 1;
         assert!(settle < 3000, "the piles never fell asleep");
     }
-    let sleeping = piled.live_body_count() - piles - 1;
+    let sleeping = piled.body_count() - piles - 1;
     let per_block = 200;
     let times = alternate_blocks(&mut piled, &mut alone, blocks, per_block);
     assert_eq!(piled.awake_body_count(), 1, "a pile woke up");

@@ -1,4 +1,5 @@
 //! Steps a built-in scene and prints how still it is: `probe_scene NAME [STEPS] [HZ] [SUBSTEPS]`.
+use tumble_physics::BodyId;
 use tumble_physics::*;
 fn main() {
     let a: Vec<String> = std::env::args().collect();
@@ -9,13 +10,15 @@ fn main() {
     let mut w = World::from_scene(&scene, &Limits::default()).unwrap();
     w.settings_mut().contact_hertz = hz;
     w.settings_mut().contact_recycling = std::env::var("NORECYCLE").is_err();
-    let init: Vec<_> = (0..w.body_count()).map(|i| w.body(i).position).collect();
+    let init: Vec<_> = (0..w.body_count())
+        .map(|i| w.body(BodyId::scene(i)).unwrap().position)
+        .collect();
     for s in 1..=steps {
         w.step(scene.dt, sub);
         if s % (steps / 10).max(1) == 0 {
             let (mut maxv, mut maxd) = ((0.0f32, 0usize), (0.0f32, 0usize));
             for i in 0..w.body_count() {
-                let b = w.body(i);
+                let b = w.body(BodyId::scene(i)).unwrap();
                 let v = b.linear_velocity.length();
                 if v > maxv.0 {
                     maxv = (v, i);

@@ -1,5 +1,6 @@
 //! Top-box sag and deepest overlap of a built-in pyramid at given settings:
 //! `sag NAME STEPS SUBSTEPS HERTZ RELAX`.
+use tumble_physics::BodyId;
 use tumble_physics::*;
 fn main() {
     let a: Vec<String> = std::env::args().collect();
@@ -10,7 +11,7 @@ fn main() {
     w.settings_mut().contact_hertz = a[4].parse().unwrap();
     w.settings_mut().relax_iterations = a[5].parse().unwrap();
     let top = w.body_count() - 1;
-    let y0 = w.body(top).position.y;
+    let y0 = w.body(BodyId::scene(top)).unwrap().position.y;
     let t = std::time::Instant::now();
     for _ in 0..steps {
         w.step(scene.dt, sub);
@@ -27,14 +28,14 @@ fn main() {
         })
         .fold(0.0f32, f32::min);
     let vmax = (0..w.body_count())
-        .map(|i| w.body(i).linear_velocity.length())
+        .map(|i| w.body(BodyId::scene(i)).unwrap().linear_velocity.length())
         .fold(0.0f32, f32::max);
     println!(
         "{} sub {sub} hz {} relax {}: sag {:.4} m, deepest {:.4} m, max v {:.4}, {:.2} ms/step",
         a[1],
         a[4],
         a[5],
-        y0 - w.body(top).position.y,
+        y0 - w.body(BodyId::scene(top)).unwrap().position.y,
         -deepest,
         vmax,
         ms

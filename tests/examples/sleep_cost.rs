@@ -41,6 +41,6 @@ fn main() {
         "{rows}-row pyramid ({} bodies), asleep after {settle} steps: asleep / awake step = \
          {ratio:.4} (median of {blocks} blocks of {per_block} steps; min {least:.4}, max \
          {most:.4}); awake step {awake_ms:.4} ms",
-        asleep.live_body_count(),
+        asleep.body_count(),
     );
 }

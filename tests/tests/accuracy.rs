@@ -14,6 +14,7 @@
 //! step. The report measures every engine from poses instead (the geometric overlap at the end
 //! of the step); for tumble the two agree to a millimetre on these cases.
 
+use tumble_physics::BodyId;
 use tumble_physics::{BodyKind, SceneDef, Vec2, World};
 use tumble_scene::builtin;
 use tumble_tests::{all_finite, world};
@@ -95,13 +96,13 @@ fn pyramid_100_rows_top_sag_below_10_cm_and_overlap_below_2_cm() {
     let scene = scene("large_pyramid");
     let mut w = build(&scene, STIFF);
     let top = scene.bodies.len() - 1;
-    let start = w.body(top).position;
+    let start = w.body(BodyId::scene(top)).unwrap().position;
     // The scene's 500 steps (Box2D's benchmark length); the sag has settled by step 400.
     for _ in 0..scene.steps {
         w.step(scene.dt, STIFF.substeps);
     }
     assert!(all_finite(&w), "large_pyramid: non-finite state");
-    let sag = start.y - w.body(top).position.y;
+    let sag = start.y - w.body(BodyId::scene(top)).unwrap().position.y;
     let overlap = deepest_overlap(&w);
     eprintln!("large_pyramid at 12 substeps, 90 Hz: top sag {sag} m, deepest overlap {overlap} m");
     // Bounds: the issue's. Measured: 0.082 m and 2.0 mm, so 18% margin on the sag (the
@@ -142,7 +143,12 @@ fn pyramid_200_rows_stands() {
         "the scene's solver block is what the world runs"
     );
     let start: Vec<(Vec2, f32)> = (0..w.body_count())
-        .map(|i| (w.body(i).position, w.body(i).angle))
+        .map(|i| {
+            (
+                w.body(BodyId::scene(i)).unwrap().position,
+                w.body(BodyId::scene(i)).unwrap().angle,
+            )
+        })
         .collect();
     for _ in 0..150 {
         w.step(scene.dt, scene.substeps);
@@ -150,7 +156,7 @@ fn pyramid_200_rows_stands() {
     assert!(all_finite(&w), "pyramid_200: non-finite state");
     let (mut sideways, mut tilt, mut worst) = (0.0_f32, 0.0_f32, 0);
     for (i, (p0, a0)) in start.iter().enumerate() {
-        let b = w.body(i);
+        let b = w.body(BodyId::scene(i)).unwrap();
         if b.kind != BodyKind::Dynamic {
             continue;
         }
@@ -161,7 +167,7 @@ fn pyramid_200_rows_stands() {
         tilt = tilt.max(turn(b.angle, *a0));
     }
     let top = scene.bodies.len() - 1;
-    let sag = start[top].0.y - w.body(top).position.y;
+    let sag = start[top].0.y - w.body(BodyId::scene(top)).unwrap().position.y;
     eprintln!(
         "pyramid_200 at its own 8 substeps, 60 Hz, 150 steps: sideways {sideways} m (body {worst}), tilt {tilt} rad, top sag {sag} m"
     );
@@ -193,7 +199,12 @@ fn mass_ratio_column(k: Knobs, column: usize) -> Column {
     let mut w = build(&scene, k);
     let start: Vec<(Vec2, f32)> = ids
         .iter()
-        .map(|&i| (w.body(i).position, w.body(i).angle))
+        .map(|&i| {
+            (
+                w.body(BodyId::scene(i)).unwrap().position,
+                w.body(BodyId::scene(i)).unwrap().angle,
+            )
+        })
         .collect();
     let mut c = Column {
         sideways: 0.0,
@@ -205,7 +216,7 @@ fn mass_ratio_column(k: Knobs, column: usize) -> Column {
     for _ in 0..scene.steps {
         w.step(scene.dt, k.substeps);
         for (&i, (p0, a0)) in ids.iter().zip(&start) {
-            let b = w.body(i);
+            let b = w.body(BodyId::scene(i)).unwrap();
             c.sideways = c.sideways.max((b.position.x - p0.x).abs());
             c.tilt = c.tilt.max(turn(b.angle, *a0));
             c.rise = c.rise.max(b.position.y - p0.y);
@@ -213,10 +224,14 @@ fn mass_ratio_column(k: Knobs, column: usize) -> Column {
     }
     assert!(all_finite(&w), "mass_ratio_columns: non-finite state");
     let heavy = *ids.last().unwrap_or(&0);
-    c.sag = start[per - 1].0.y - w.body(heavy).position.y;
+    c.sag = start[per - 1].0.y - w.body(BodyId::scene(heavy)).unwrap().position.y;
     c.overlap = -w
         .contacts()
-        .filter(|v| ids.contains(&v.body_a) || ids.contains(&v.body_b))
+        .filter(|v| {
+            [v.body_a, v.body_b]
+                .iter()
+                .any(|b| ids.contains(&(b.index as usize)))
+        })
         .flat_map(|v| v.manifold.points().iter().map(|p| p.separation))
         .fold(0.0_f32, f32::min);
     c
@@ -278,7 +293,10 @@ fn friction_ramp_slides_within_10_percent_of_closed_form() {
     let boxes: Vec<usize> = (0..scene.bodies.len())
         .filter(|&i| scene.bodies[i].kind == BodyKind::Dynamic)
         .collect();
-    let start: Vec<Vec2> = boxes.iter().map(|&i| w.body(i).position).collect();
+    let start: Vec<Vec2> = boxes
+        .iter()
+        .map(|&i| w.body(BodyId::scene(i)).unwrap().position)
+        .collect();
     let steps = 180;
     for _ in 0..steps {
         w.step(scene.dt, DEFAULT.substeps);
@@ -286,7 +304,7 @@ fn friction_ramp_slides_within_10_percent_of_closed_form() {
     let t = steps as f32 * scene.dt;
     for (k, &i) in boxes.iter().enumerate() {
         let mu = scene.bodies[i].friction;
-        let s = (w.body(i).position - start[k]).dot(downhill);
+        let s = (w.body(BodyId::scene(i)).unwrap().position - start[k]).dot(downhill);
         let a = 10.0 * (theta.sin() - mu * theta.cos());
         if a > 0.0 {
             let expected = 0.5 * a * t * t;
@@ -323,7 +341,7 @@ fn restitution_apexes_within_10_percent_of_e_squared_h() {
     for _ in 0..180 {
         w.step(scene.dt, DEFAULT.substeps);
         for i in 1..n {
-            let b = w.body(i);
+            let b = w.body(BodyId::scene(i)).unwrap();
             if done[i] {
                 continue;
             }
@@ -368,7 +386,7 @@ fn overlap_recovery_peak_speed_below_3_m_s() {
     for step in 0..300 {
         w.step(scene.dt, k.substeps);
         for i in 0..w.body_count() {
-            let v = w.body(i).linear_velocity.length();
+            let v = w.body(BodyId::scene(i)).unwrap().linear_velocity.length();
             if v > peak {
                 (peak, when) = (v, step);
             }
@@ -460,14 +478,17 @@ fn far_from_origin_stack_matches_the_same_stack_at_the_origin() {
     let measure = |scene: &SceneDef| {
         let mut w = build(scene, DEFAULT);
         let top = scene.bodies.len() - 1;
-        let start = w.body(top).position;
+        let start = w.body(BodyId::scene(top)).unwrap().position;
         let mut drift = 0.0_f32;
         for _ in 0..600 {
             w.step(scene.dt, DEFAULT.substeps);
-            drift = drift.max((w.body(top).position.x - start.x).abs());
+            drift = drift.max((w.body(BodyId::scene(top)).unwrap().position.x - start.x).abs());
         }
         assert!(all_finite(&w), "{}: non-finite state", scene.name);
-        (drift, start.y - w.body(top).position.y)
+        (
+            drift,
+            start.y - w.body(BodyId::scene(top)).unwrap().position.y,
+        )
     };
     let (far_drift, far_sag) = measure(&far);
     let (near_drift, near_sag) = measure(&near);

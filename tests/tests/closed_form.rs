@@ -4,6 +4,7 @@
 //! is f32 round-off, counted from the number of operations) or a known, measured property of
 //! the Soft Step solver.
 
+use tumble_physics::BodyId;
 use tumble_physics::{BodyDef, BodyKind, ShapeDef, StepSettings, Vec2, World};
 
 const DT: f32 = 1.0 / 60.0;
@@ -17,8 +18,8 @@ fn settings(gravity: [f32; 2]) -> StepSettings {
     }
 }
 
-fn add(world: &mut World, def: BodyDef) -> usize {
-    match world.add_body(&def) {
+fn add(world: &mut World, def: BodyDef) -> BodyId {
+    match world.create_body(&def) {
         Ok(i) => i,
         Err(e) => panic!("body refused: {e}"),
     }
@@ -62,7 +63,7 @@ fn projectile_matches_symplectic_euler() {
         0,
         "the projectile must touch nothing"
     );
-    let b = world.body(id);
+    let b = world.body(id).unwrap();
     // h as the engine computes it (dt / substeps in f32), carried exactly into f64.
     let h = f64::from(DT / SUBSTEPS as f32);
     let n = f64::from(steps * SUBSTEPS);
@@ -134,7 +135,10 @@ fn elastic_head_on_collision_swaps_velocities() {
         });
     }
     assert!(touched, "the discs never pushed on each other");
-    let (va, vb) = (world.body(a).linear_velocity, world.body(b).linear_velocity);
+    let (va, vb) = (
+        world.body(a).unwrap().linear_velocity,
+        world.body(b).unwrap().linear_velocity,
+    );
     eprintln!("elastic: va {va}, vb {vb}");
     // Swap within 5% of the 2 m/s speed: the brief's bound. For an isolated pair the
     // restitution pass sets the rebound exactly (measured: -2 and 2 to f32 display precision).
@@ -182,7 +186,7 @@ fn restitution_bounce_reaches_e_squared_height() {
     let mut apex = f32::NEG_INFINITY;
     for _ in 0..150 {
         world.step(DT, SUBSTEPS);
-        let b = world.body(ball);
+        let b = world.body(ball).unwrap();
         // Only a contact can turn the fall upwards: the first upward velocity marks the bounce.
         bounced |= b.linear_velocity.y > 0.0;
         if bounced {
@@ -208,7 +212,7 @@ fn restitution_bounce_reaches_e_squared_height() {
 
 /// A unit box on a static slope of angle `theta`, both with friction `mu`. Returns the world,
 /// the box's id and the downhill unit vector.
-fn incline(theta: f32, mu: f32) -> (World, usize, Vec2) {
+fn incline(theta: f32, mu: f32) -> (World, BodyId, Vec2) {
     let mut world = World::new(settings([0.0, -10.0]));
     let (s, c) = theta.sin_cos();
     let normal = Vec2::new(-s, c);
@@ -239,11 +243,11 @@ fn box_sticks_on_incline_when_friction_exceeds_tan_theta() {
     let theta = 20.0_f32.to_radians();
     let mu = 0.6; // > tan 20 deg = 0.364
     let (mut world, id, downhill) = incline(theta, mu);
-    let start = world.body(id).position;
+    let start = world.body(id).unwrap().position;
     for _ in 0..120 {
         world.step(DT, SUBSTEPS);
     }
-    let b = world.body(id);
+    let b = world.body(id).unwrap();
     let along = (b.position - start).dot(downhill);
     eprintln!(
         "incline stick: moved {along} m down the slope, angle {} vs {theta}",
@@ -275,12 +279,12 @@ fn box_slides_on_incline_with_coulomb_acceleration() {
     for _ in 0..15 {
         world.step(DT, SUBSTEPS);
     }
-    let v0 = world.body(id).linear_velocity.dot(downhill);
+    let v0 = world.body(id).unwrap().linear_velocity.dot(downhill);
     let steps = 60;
     for _ in 0..steps {
         world.step(DT, SUBSTEPS);
     }
-    let v1 = world.body(id).linear_velocity.dot(downhill);
+    let v1 = world.body(id).unwrap().linear_velocity.dot(downhill);
     let measured = (v1 - v0) / (steps as f32 * DT);
     let expected = 10.0 * (theta.sin() - mu * theta.cos());
     eprintln!("incline slide: a {measured} vs {expected} m/s^2");
@@ -290,7 +294,7 @@ fn box_slides_on_incline_with_coulomb_acceleration() {
         (measured - expected).abs() <= 0.1 * expected,
         "slide acceleration {measured} m/s^2, expected g (sin - mu cos) = {expected} m/s^2 within 10%"
     );
-    let b = world.body(id);
+    let b = world.body(id).unwrap();
     assert!(
         (b.angle - theta).abs() < 0.01,
         "sliding box tipped: angle {} rad, slope {theta} rad",
@@ -314,7 +318,7 @@ fn linear_damping_converges_to_exponential() {
         for _ in 0..steps {
             world.step(dt, SUBSTEPS);
         }
-        world.body(id).linear_velocity.length()
+        world.body(id).unwrap().linear_velocity.length()
     };
     let v60 = speed_at(1.0 / 60.0);
     let v120 = speed_at(1.0 / 120.0);

@@ -1,6 +1,7 @@
 //! Determinism across thread counts: the same scene stepped on 1, 2, 3 and 4 threads, and with
 //! the thread count changed mid-run, ends in bit-identical states.
 
+use tumble_physics::BodyId;
 use tumble_physics::{
     BodyDef, BodyKind, Event, EventCursor, JointDef, PartDef, SceneDef, ShapeDef, StepSettings,
     WideThresholds, World,
@@ -13,7 +14,7 @@ const STEPS: u32 = 240;
 fn snapshot(w: &World) -> Vec<[u32; 7]> {
     (0..w.body_count())
         .map(|i| {
-            let b = w.body(i);
+            let b = w.body(BodyId::scene(i)).unwrap();
             [
                 b.position.x.to_bits(),
                 b.position.y.to_bits(),
@@ -163,7 +164,9 @@ fn run_with(
     assert!(all_finite(&w), "{label}: non-finite state");
     let circle_contacts = w
         .contacts()
-        .filter(|c| c.manifold.count > 0 && c.body_a.max(c.body_b) >= first_circle)
+        .filter(|c| {
+            c.manifold.count > 0 && c.body_a.index.max(c.body_b.index) as usize >= first_circle
+        })
         .count();
     eprintln!(
         "{label}: {} contacts, {circle_contacts} touching a circle, hash {:016x}, {:.0} ms",
@@ -485,7 +488,7 @@ fn every_joint() -> SceneDef {
     for k in 0..10 {
         let x = -20.0 + 0.5 + k as f32;
         let link = scene.push(BodyDef::new(rect(0.5, 0.1)).at(x, 12.0));
-        let mut joint = JointDef::hinge([prev, link], [x - 0.5, 12.0]);
+        let mut joint = JointDef::hinge([prev, link].map(BodyId::scene), [x - 0.5, 12.0]);
         if let JointDef::Revolute { limit, spring, .. } = &mut joint {
             match k {
                 1 => *limit = Some([-0.5, 0.5]),
@@ -505,7 +508,7 @@ fn every_joint() -> SceneDef {
     let slider = scene.push(BodyDef::new(rect(0.3, 0.3)).at(-5.0, 5.0));
     let (c, s) = (30f32.to_radians().cos(), 30f32.to_radians().sin());
     scene.joints.push(JointDef::Prismatic {
-        bodies: [ground, slider],
+        bodies: [ground, slider].map(BodyId::scene),
         anchor: [-5.0, 5.0],
         axis: [c, s],
         limit: Some([-2.0, 2.0]),
@@ -521,7 +524,7 @@ fn every_joint() -> SceneDef {
     for x in [-0.7f32, 0.7] {
         let wheel = scene.push(BodyDef::new(ball(0.4)).at(x, 0.6).friction(0.9));
         scene.joints.push(JointDef::Wheel {
-            bodies: [chassis, wheel],
+            bodies: [chassis, wheel].map(BodyId::scene),
             anchor: [x, 0.6],
             axis: [0.0, 1.0],
             limit: Some([-0.2, 0.2]),
@@ -539,7 +542,7 @@ fn every_joint() -> SceneDef {
     // A rope and a spring from the ground, a soft weld, a motor joint and a filter joint.
     let on_rope = scene.push(BodyDef::new(ball(0.3)).at(8.0, 6.0));
     scene.joints.push(JointDef::Distance {
-        bodies: [ground, on_rope],
+        bodies: [ground, on_rope].map(BodyId::scene),
         anchors: [[6.0, 8.0], [8.0, 6.0]],
         length: Some(3.0),
         limit: Some([0.0, 3.0]),
@@ -551,7 +554,7 @@ fn every_joint() -> SceneDef {
     });
     let on_spring = scene.push(BodyDef::new(ball(0.3)).at(10.0, 6.0));
     scene.joints.push(JointDef::Distance {
-        bodies: [ground, on_spring],
+        bodies: [ground, on_spring].map(BodyId::scene),
         anchors: [[10.0, 8.0], [10.0, 6.0]],
         length: None,
         limit: None,
@@ -563,7 +566,7 @@ fn every_joint() -> SceneDef {
     });
     let welded = scene.push(BodyDef::new(rect(0.5, 0.5)).at(12.5, 4.0));
     scene.joints.push(JointDef::Weld {
-        bodies: [on_spring, welded],
+        bodies: [on_spring, welded].map(BodyId::scene),
         anchor: [11.0, 5.0],
         linear_hertz: 5.0,
         angular_hertz: 3.0,
@@ -573,7 +576,7 @@ fn every_joint() -> SceneDef {
     });
     let driven = scene.push(BodyDef::new(rect(0.4, 0.4)).at(15.0, 3.0));
     scene.joints.push(JointDef::Motor {
-        bodies: [ground, driven],
+        bodies: [ground, driven].map(BodyId::scene),
         linear_offset: Some([16.0, 4.5]),
         angular_offset: Some(1.0),
         max_force: 200.0,
@@ -583,7 +586,7 @@ fn every_joint() -> SceneDef {
     });
     let apart = scene.push(BodyDef::new(rect(0.4, 0.4)).at(15.0, 0.4));
     scene.joints.push(JointDef::Filter {
-        bodies: [driven, apart],
+        bodies: [driven, apart].map(BodyId::scene),
     });
     // The hub and its 30 balls.
     let hub = scene.push(BodyDef::new(ball(1.0)).at(25.0, 8.0));
@@ -592,7 +595,7 @@ fn every_joint() -> SceneDef {
         let p = [25.0 + 2.5 * a.cos(), 8.0 + 2.5 * a.sin()];
         let b = scene.push(BodyDef::new(ball(0.2)).at(p[0], p[1]));
         scene.joints.push(JointDef::Distance {
-            bodies: [hub, b],
+            bodies: [hub, b].map(BodyId::scene),
             anchors: [[25.0, 8.0], p],
             length: None,
             limit: None,
@@ -700,7 +703,7 @@ fn rain_making_and_destroying_ragdolls_is_bit_identical_on_1_to_4_real_workers()
                 all_finite(&w),
                 "rain on {workers} workers: non-finite state"
             );
-            assert_eq!(w.live_body_count(), 1 + 3 * 5 * 55);
+            assert_eq!(w.body_count(), 1 + 3 * 5 * 55);
             assert!(w.contact_count() > 100, "the ragdolls have landed");
             // Destroying column 0's landed groups ended their touching contacts at once, as
             // many as touched just before.
@@ -717,10 +720,9 @@ fn rain_making_and_destroying_ragdolls_is_bit_identical_on_1_to_4_real_workers()
 /// Touching contacts of rain's column 0 (its bodies' user data names the column).
 fn touching_of_column_0(w: &World) -> usize {
     use tumble_scene::builtin::rain;
-    let column_0: std::collections::HashSet<usize> = w
+    let column_0: std::collections::HashSet<BodyId> = w
         .body_ids()
         .filter(|&id| (0..rain::ROWS).any(|row| w.user_data(id) == Ok(rain::tag(row, 0))))
-        .map(|id| id.index as usize)
         .collect();
     w.contacts()
         .filter(|c| {

@@ -50,13 +50,21 @@ fn a_body_of_two_shapes_rests_on_both_and_has_their_mass() {
     let mut w = World::from_scene(&scene, &Limits::default()).unwrap();
     // Mass: two discs of π·0.25² at density 1 (f32 sums: 1e-6 relative).
     let m = 2.0 * std::f32::consts::PI * 0.0625;
-    assert!((w.mass(1) / m - 1.0).abs() < 1e-6, "{}", w.mass(1));
+    assert!(
+        (w.mass(BodyId::scene(1)).unwrap() / m - 1.0).abs() < 1e-6,
+        "{}",
+        w.mass(BodyId::scene(1)).unwrap()
+    );
     // Parallel axis: 2·(m₁r²/2 + m₁·1²).
     let i = 2.0 * (0.5 * (m / 2.0) * 0.0625 + m / 2.0);
-    assert!((w.inertia(1) / i - 1.0).abs() < 1e-5, "{}", w.inertia(1));
+    assert!(
+        (w.inertia(BodyId::scene(1)).unwrap() / i - 1.0).abs() < 1e-5,
+        "{}",
+        w.inertia(BodyId::scene(1)).unwrap()
+    );
     w.settings_mut().enable_sleep = false;
     step_checked(&mut w, 180);
-    let b = w.body(1);
+    let b = w.body(BodyId::scene(1)).unwrap();
     // Both discs rest on the ground: the centre 0.25 m up (within the contact's soft
     // overlap, a slop of 5 mm), level, and the frame's origin where the centre is.
     assert!((b.position.y - 0.25).abs() < 0.005, "{:?}", b.position);
@@ -78,11 +86,14 @@ fn an_off_centre_part_moves_the_centre_of_mass_and_the_body_turns_about_it() {
     let mut w = World::from_scene(&scene, &Limits::default()).unwrap();
     let (m1, m2) = (0.25f32, 0.0625f32);
     let cx = m2 / (m1 + m2);
-    assert!((w.local_center(0).x - cx).abs() < 1e-6);
-    assert_eq!(w.body(0).origin, Vec2::new(3.0, 5.0));
+    assert!((w.local_center(BodyId::scene(0)).unwrap().x - cx).abs() < 1e-6);
+    assert_eq!(
+        w.body(BodyId::scene(0)).unwrap().origin,
+        Vec2::new(3.0, 5.0)
+    );
     // Spinning freely, the centre stays put and the origin circles it at radius cx.
     step_checked(&mut w, 90);
-    let b = w.body(0);
+    let b = w.body(BodyId::scene(0)).unwrap();
     assert!((b.position - Vec2::new(3.0 + cx, 5.0)).length() < 1e-5);
     assert!(((b.origin - b.position).length() - cx).abs() < 1e-5);
 }
@@ -121,11 +132,15 @@ fn filters_decide_which_shapes_touch() {
     scene.push(ball(2.0));
     let mut w = World::from_scene(&scene, &Limits::default()).unwrap();
     step_checked(&mut w, 120);
-    assert!(w.body(1).position.y < -5.0, "{:?}", w.body(1).position);
     assert!(
-        (w.body(2).position.y - 0.5).abs() < 0.01,
+        w.body(BodyId::scene(1)).unwrap().position.y < -5.0,
         "{:?}",
-        w.body(2).position
+        w.body(BodyId::scene(1)).unwrap().position
+    );
+    assert!(
+        (w.body(BodyId::scene(2)).unwrap().position.y - 0.5).abs() < 0.01,
+        "{:?}",
+        w.body(BodyId::scene(2)).unwrap().position
     );
 }
 
@@ -137,7 +152,7 @@ fn shapes_of_one_body_never_touch() {
     w.create_body(&body).unwrap();
     step_checked(&mut w, 30);
     assert_eq!(w.contact_count(), 0);
-    let v = w.body(0).linear_velocity;
+    let v = w.body(BodyId::scene(0)).unwrap().linear_velocity;
     assert!((v.y + 10.0 * 30.0 * DT).abs() < 1e-3, "{v:?}");
 }
 
@@ -162,7 +177,7 @@ fn pyramid(rows: usize) -> World {
 #[test]
 fn a_resting_pyramid_falls_asleep_as_one_island_and_then_costs_nothing() {
     let mut w = pyramid(20);
-    let bodies = w.live_body_count() - 1;
+    let bodies = w.body_count() - 1;
     step_checked(&mut w, 1);
     // Touching contacts join every box into one island.
     assert_eq!(w.island_counts().0, 1);
@@ -197,10 +212,10 @@ fn switching_sleep_off_wakes_every_island() {
     assert_eq!(w.awake_body_count(), 0);
     w.settings_mut().enable_sleep = false;
     step_checked(&mut w, 1);
-    assert_eq!(w.awake_body_count(), w.live_body_count() - 1);
+    assert_eq!(w.awake_body_count(), w.body_count() - 1);
     assert_eq!(w.island_counts(), (1, 1));
     step_checked(&mut w, 200);
-    assert_eq!(w.awake_body_count(), w.live_body_count() - 1);
+    assert_eq!(w.awake_body_count(), w.body_count() - 1);
 }
 
 #[test]
@@ -214,14 +229,14 @@ fn a_ball_dropped_on_a_sleeping_pyramid_wakes_it() {
     step_checked(&mut w, 1);
     // The new ball is awake; the pyramid still sleeps until the ball touches it.
     assert_eq!(w.awake_body_count(), 1);
-    assert!(w.get(ball).unwrap().awake);
+    assert!(w.body(ball).unwrap().awake);
     // It lands after about 1.5 s; the pyramid wakes (and may settle and sleep again).
     let mut most = 0;
     for _ in 0..150 {
         step_checked(&mut w, 1);
         most = most.max(w.awake_body_count());
     }
-    assert_eq!(most, w.live_body_count() - 1, "only {most} bodies woke");
+    assert_eq!(most, w.body_count() - 1, "only {most} bodies woke");
 }
 
 #[test]
@@ -229,14 +244,18 @@ fn a_sleeping_pile_beside_an_awake_body_is_not_walked() {
     // Issue 15: a sleeping body costs nothing while others are awake (Box2D's solver sets:
     // the stages walk the awake set only). The profile counts what the stages walked.
     let mut w = pyramid(10);
-    let boxes = w.live_body_count() - 1;
+    let boxes = w.body_count() - 1;
     step_checked(&mut w, 240);
     assert_eq!(w.awake_body_count(), 0);
     let contacts = w.contact_count();
     // A ball falling for ever, far from the pile: one awake island beside a sleeping one.
     let far = BodyDef::new(ShapeDef::Circle { radius: 0.5 }).at(500.0, 0.0);
     w.create_body(&far).unwrap();
-    let poses = |w: &World| (1..=boxes).map(|i| w.body(i)).collect::<Vec<_>>();
+    let poses = |w: &World| {
+        (1..=boxes)
+            .map(|i| w.body(BodyId::scene(i)).unwrap())
+            .collect::<Vec<_>>()
+    };
     let asleep = poses(&w);
     for _ in 0..30 {
         step_checked(&mut w, 1);
@@ -278,11 +297,11 @@ fn a_sleeping_pile_beside_an_awake_body_is_not_walked() {
 #[test]
 fn ids_are_refused_once_their_body_is_gone() {
     let mut w = pyramid(3);
-    let top = w.body_id(w.body_count() - 1).unwrap();
+    let top = BodyId::scene(w.body_count() - 1);
     step_checked(&mut w, 10);
     w.destroy_body(top).unwrap();
     w.validate().unwrap();
-    assert_eq!(w.get(top), Err(WorldError::NoBody(top)));
+    assert_eq!(w.body(top), Err(WorldError::NoBody(top)));
     assert_eq!(w.destroy_body(top), Err(WorldError::NoBody(top)));
     // The next body takes the slot under a new generation: the old id still names nothing.
     let new = w
@@ -290,7 +309,7 @@ fn ids_are_refused_once_their_body_is_gone() {
         .unwrap();
     assert_eq!(new.index, top.index);
     assert_ne!(new.generation, top.generation);
-    assert!(w.get(top).is_err() && w.get(new).is_ok());
+    assert!(w.body(top).is_err() && w.body(new).is_ok());
     step_checked(&mut w, 60);
 }
 
@@ -301,9 +320,13 @@ fn destroying_the_ground_wakes_what_rests_on_it_and_it_falls() {
     assert_eq!(w.awake_body_count(), 0);
     w.destroy_body(BodyId::scene(0)).unwrap();
     w.validate().unwrap();
-    assert_eq!(w.awake_body_count(), w.live_body_count());
+    assert_eq!(w.awake_body_count(), w.body_count());
     step_checked(&mut w, 60);
-    assert!(w.body(1).position.y < -3.0, "{:?}", w.body(1).position);
+    assert!(
+        w.body(BodyId::scene(1)).unwrap().position.y < -3.0,
+        "{:?}",
+        w.body(BodyId::scene(1)).unwrap().position
+    );
 }
 
 #[test]
@@ -313,36 +336,39 @@ fn moving_the_ground_wakes_what_sleeps_on_it() {
     assert_eq!(w.awake_body_count(), 0);
     w.set_transform(BodyId::scene(0), Vec2::new(0.0, -3.0), 0.0)
         .unwrap();
-    assert_eq!(w.awake_body_count(), w.live_body_count() - 1);
+    assert_eq!(w.awake_body_count(), w.body_count() - 1);
     step_checked(&mut w, 30);
-    assert!(w.body(1).position.y < 0.0, "{:?}", w.body(1).position);
+    assert!(
+        w.body(BodyId::scene(1)).unwrap().position.y < 0.0,
+        "{:?}",
+        w.body(BodyId::scene(1)).unwrap().position
+    );
 }
 
 #[test]
 fn run_time_changes_keep_every_store_consistent() {
     let mut w = pyramid(5);
     step_checked(&mut w, 30);
-    let id = |w: &World, i: usize| w.body_id(i).unwrap();
+    let id = |_: &World, i: usize| BodyId::scene(i);
     // A shape added to a box: it gets heavier and its contacts' masses follow.
     let b = id(&w, 3);
-    let m0 = w.mass(3);
+    let m0 = w.mass(BodyId::scene(3)).unwrap();
     let s = w.create_shape(b, &disc(0.3).at(0.0, 0.6, 0.0)).unwrap();
     w.validate().unwrap();
-    assert!(w.mass(3) > m0);
+    assert!(w.mass(BodyId::scene(3)).unwrap() > m0);
     step_checked(&mut w, 10);
     w.destroy_shape(s).unwrap();
     w.validate().unwrap();
-    assert_eq!(w.mass(3), m0);
+    assert_eq!(w.mass(BodyId::scene(3)).unwrap(), m0);
     assert!(w.destroy_shape(s).is_err());
     // The last shape of a dynamic body cannot go.
-    let only = w.body_shapes(3).next().unwrap().id;
+    let only = w.body_shapes(BodyId::scene(3)).unwrap().next().unwrap().id;
     assert!(w.destroy_shape(only).is_err());
     // Kinds: a box made static, one made kinematic and moved, one teleported.
     w.set_kind(id(&w, 1), BodyKind::Static).unwrap();
     w.validate().unwrap();
     w.set_kind(id(&w, 2), BodyKind::Kinematic).unwrap();
-    w.set_body_velocity(id(&w, 2), Vec2::new(0.5, 0.0), 0.0)
-        .unwrap();
+    w.set_velocity(id(&w, 2), Vec2::new(0.5, 0.0), 0.0).unwrap();
     w.validate().unwrap();
     w.set_transform(id(&w, 4), Vec2::new(0.0, 9.0), 0.3)
         .unwrap();
@@ -359,7 +385,7 @@ fn run_time_changes_keep_every_store_consistent() {
         w.set_transform(id(&w, 4), Vec2::new(f32::NAN, 0.0), 0.0)
             .is_err()
     );
-    assert!(w.set_body_velocity(id(&w, 4), Vec2::INFINITY, 0.0).is_err());
+    assert!(w.set_velocity(id(&w, 4), Vec2::INFINITY, 0.0).is_err());
     assert!(
         w.create_body(&BodyDef::new(ShapeDef::Circle { radius: -1.0 }))
             .is_err()
@@ -476,7 +502,7 @@ fn the_benchmark_scenes_of_several_shapes_load_and_stay_consistent() {
     // compounds: 3000 bodies of two shapes and one static body of 282.
     let compounds = tumble_scene::builtin::build("compounds").unwrap();
     let w = World::from_scene(&compounds, &Limits::default()).unwrap();
-    assert_eq!(w.live_body_count(), 3001);
+    assert_eq!(w.body_count(), 3001);
     assert_eq!(w.shapes().count(), 6000 + 282);
 }
 
@@ -509,13 +535,14 @@ fn bodies_falling_together_make_no_pairs_unless_they_are_bullets() {
     assert_eq!(bullets.contact_count(), 9);
     // Nothing touched: both fell the same way, bit for bit.
     for i in 0..10 {
-        assert_eq!(plain.body(i).position, bullets.body(i).position);
+        assert_eq!(
+            plain.body(BodyId::scene(i)).unwrap().position,
+            bullets.body(BodyId::scene(i)).unwrap().position
+        );
     }
     // Making the bullets plain again drops those pairs at the next narrow phase.
     for i in 0..10 {
-        bullets
-            .set_bullet(bullets.body_id(i).unwrap(), false)
-            .unwrap();
+        bullets.set_bullet(BodyId::scene(i), false).unwrap();
         bullets.validate().unwrap();
     }
     step_checked(&mut bullets, 1);
@@ -539,10 +566,16 @@ fn head_on(speed: f32, bullet: bool) -> (f32, bool) {
     let mut deepest = 0.0f32;
     for _ in 0..120 {
         step_checked(&mut w, 1);
-        let gap = (w.body(1).position - w.body(0).position).length() - 0.5;
+        let gap = (w.body(BodyId::scene(1)).unwrap().position
+            - w.body(BodyId::scene(0)).unwrap().position)
+            .length()
+            - 0.5;
         deepest = deepest.max(-gap);
     }
-    (deepest, w.body(0).position.x > w.body(1).position.x)
+    (
+        deepest,
+        w.body(BodyId::scene(0)).unwrap().position.x > w.body(BodyId::scene(1)).unwrap().position.x,
+    )
 }
 
 #[test]

@@ -1,6 +1,7 @@
 //! Extreme input the step must survive: no NaN, no explosion, no tunnelling where the
 //! speculative margin promises none.
 
+use tumble_physics::BodyId;
 use tumble_physics::{BodyDef, BodyKind, Limits, SceneDef, ShapeDef, StepSettings, Vec2, World};
 use tumble_tests::all_finite;
 
@@ -50,7 +51,7 @@ fn mass_ratio_one_to_a_million_stays_finite_and_bounded() {
     // what any iterative solver resolves), but nothing may fly off: both stay within a few
     // metres of where they started, and speeds stay below free fall from that height.
     for i in 1..3 {
-        let b = w.body(i);
+        let b = w.body(BodyId::scene(i)).unwrap();
         assert!(b.position.length() < 5.0, "body {i} at {:?}", b.position);
         assert!(
             b.linear_velocity.length() < 10.0,
@@ -74,7 +75,7 @@ fn tiny_and_huge_shapes_share_a_world() {
     // Everything rests on the slab (top at y = 0): nothing fell through it, within the
     // 5 mm slop of soft contacts under the boulder's weight.
     for i in 1..w.body_count() {
-        let b = w.body(i);
+        let b = w.body(BodyId::scene(i)).unwrap();
         assert!(
             b.position.y > -0.005,
             "body {i} fell through: {:?}",
@@ -96,7 +97,7 @@ fn bodies_spawned_inside_each_other_separate_gently() {
     // Push-out is capped at 3 m/s per contact (Box2D's contactSpeed); six bodies stacked
     // in one place can add a few of those up, never an explosion.
     for i in 1..w.body_count() {
-        let b = w.body(i);
+        let b = w.body(BodyId::scene(i)).unwrap();
         assert!(
             b.position.length() < 15.0,
             "body {i} thrown to {:?}",
@@ -122,7 +123,7 @@ fn a_stack_a_thousand_kilometres_out_stays_finite() {
     // f32 resolves 1e6 m to 6 cm: the stack cannot be precise, but it must not fall through
     // or fly apart; each box stays within a few ulps (6.25 cm each) of its start.
     for i in 1..w.body_count() {
-        let b = w.body(i);
+        let b = w.body(BodyId::scene(i)).unwrap();
         let start = Vec2::new(x, y + 0.5 + (i - 1) as f32);
         assert!(
             (b.position - start).length() < 0.5,
@@ -153,7 +154,7 @@ fn ten_kilometres_a_second_into_a_thin_wall_does_not_tunnel() {
     let max_speed = StepSettings::default().max_linear_speed;
     for _ in 0..120 {
         w.step(scene.dt, scene.substeps);
-        let b = w.body(1);
+        let b = w.body(BodyId::scene(1)).unwrap();
         assert!(all_finite(&w));
         assert!(
             b.linear_velocity.length() <= max_speed * 1.0001,
@@ -164,6 +165,6 @@ fn ten_kilometres_a_second_into_a_thin_wall_does_not_tunnel() {
     }
     assert!(w.speed_cap_count() > 0, "the speed cap never bit");
     // It reached the wall and stopped there (no restitution), not short of it.
-    let x = w.body(1).position.x;
+    let x = w.body(BodyId::scene(1)).unwrap().position.x;
     assert!(x > 19.8, "stopped at {x}");
 }

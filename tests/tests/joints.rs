@@ -1,11 +1,11 @@
 //! Scene-level joint cases: the built-in jointed scenes do what their joints promise.
 
-use tumble_physics::{JointDef, World};
+use tumble_physics::{BodyId, JointDef, World};
 use tumble_tests::{all_finite, run, world};
 
 /// The relative angle of a revolute joint's bodies (both started at angle 0).
-fn relative_angle(w: &World, [a, b]: [usize; 2]) -> f32 {
-    let d = w.body(b).angle - w.body(a).angle;
+fn relative_angle(w: &World, [a, b]: [BodyId; 2]) -> f32 {
+    let d = w.body(b).unwrap().angle - w.body(a).unwrap().angle;
     (d + std::f32::consts::PI).rem_euclid(std::f32::consts::TAU) - std::f32::consts::PI
 }
 
@@ -35,7 +35,7 @@ fn the_ragdoll_falls_keeps_its_limits_and_comes_to_rest() {
     assert!(all_finite(&w));
     assert!(worst < 0.05, "a limit was passed by {worst} rad");
     for i in 1..w.body_count() {
-        let b = w.body(i);
+        let b = w.body(BodyId::scene(i)).unwrap();
         assert!(
             b.position.y > -0.05 && b.position.y < 0.5,
             "bone {i} at {}",
@@ -53,7 +53,7 @@ fn the_stretched_chain_pulls_itself_together_and_the_bridge_holds() {
     let scene = tumble_scene::builtin::build("stretched_chain").expect("stretched_chain");
     let mut w = world(&scene);
     run(&mut w, &scene, 600);
-    let last = w.body(40).position;
+    let last = w.body(BodyId::scene(40)).unwrap().position;
     assert!(
         last.x.abs() < 0.01 && last.y.abs() < 0.01,
         "last disc at {last}"
@@ -63,7 +63,7 @@ fn the_stretched_chain_pulls_itself_together_and_the_bridge_holds() {
     let scene = tumble_scene::builtin::build("bridge").expect("bridge");
     let mut w = world(&scene);
     run(&mut w, &scene, 300);
-    let sag = 20.0 - w.body(80).position.y;
+    let sag = 20.0 - w.body(BodyId::scene(80)).unwrap().position.y;
     assert!(all_finite(&w));
     assert!((0.0..4.0).contains(&sag), "the bridge sags {sag} m");
 }

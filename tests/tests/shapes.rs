@@ -1,6 +1,7 @@
 //! Capsules, segments, chains and rounded polygons in scenes: what each is for (ground that
 //! does not snag, bodies that rest and bounce as their closed forms say, one-sided walls).
 
+use tumble_physics::BodyId;
 use tumble_physics::{BodyDef, BodyKind, PartDef, SceneDef, ShapeDef};
 use tumble_tests::{all_finite, run, world};
 
@@ -56,7 +57,7 @@ fn slide(chain: bool) -> (f32, f32, f32, f32) {
     let mut w = world(&scene);
     run(&mut w, &scene, 300);
     assert!(all_finite(&w));
-    let b = w.body(1);
+    let b = w.body(BodyId::scene(1)).unwrap();
     (
         b.linear_velocity.x,
         b.linear_velocity.y,
@@ -118,7 +119,7 @@ fn capsules_and_rounded_boxes_rest_at_their_rounded_height() {
     run(&mut w, &scene, 180);
     assert!(all_finite(&w));
     for (index, height) in [(1, 0.25f32), (2, 0.6)] {
-        let b = w.body(index);
+        let b = w.body(BodyId::scene(index)).unwrap();
         let sink = height - b.position.y;
         assert!(
             (-1e-3..=SLOP + 1e-3).contains(&sink),
@@ -158,7 +159,10 @@ fn capsules_meeting_head_on_elastically_swap_velocities() {
     );
     let mut w = world(&scene);
     run(&mut w, &scene, 120);
-    let (a, b) = (w.body(0).linear_velocity, w.body(1).linear_velocity);
+    let (a, b) = (
+        w.body(BodyId::scene(0)).unwrap().linear_velocity,
+        w.body(BodyId::scene(1)).unwrap().linear_velocity,
+    );
     assert!(
         (a.x + 1.0).abs() < 0.03 && (b.x - 3.0).abs() < 0.03,
         "{a} {b}"
@@ -181,11 +185,11 @@ fn a_chain_pushes_only_from_its_right_hand_side() {
     let mut highest = f32::MIN;
     for _ in 0..300 {
         w.step(scene.dt, scene.substeps);
-        highest = highest.max(w.body(1).position.y);
+        highest = highest.max(w.body(BodyId::scene(1)).unwrap().position.y);
     }
     // 7.2 m above the start, less the symplectic Euler's first-step drop (g·dt² per step).
     assert!((highest - 6.2).abs() < 0.1, "highest {highest}");
-    let b = w.body(1);
+    let b = w.body(BodyId::scene(1)).unwrap();
     assert!(
         (b.position.y - 0.5).abs() <= SLOP + 1e-3,
         "rests at {}",
@@ -206,7 +210,7 @@ fn a_ring_chain_holds_a_pile() {
     run(&mut w, &scene, 240);
     assert!(all_finite(&w));
     for i in 2..w.body_count() {
-        let p = w.body(i).position;
+        let p = w.body(BodyId::scene(i)).unwrap().position;
         let r = (p - tumble_physics::Vec2::new(0.0, 32.0)).length();
         assert!(r < 40.0, "body {i} at {p} is {r} m from the ring's centre");
     }

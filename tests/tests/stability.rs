@@ -1,6 +1,7 @@
 //! Stacking stability: columns and pyramids must stand still, overlap must be pushed apart
 //! gently. Every assertion message carries the measured figure.
 
+use tumble_physics::BodyId;
 use tumble_physics::{BodyDef, BodyKind, SceneDef, ShapeDef, Vec2, World};
 use tumble_tests::{all_finite, run, world};
 
@@ -13,7 +14,7 @@ fn builtin(name: &str) -> SceneDef {
 
 fn positions(world: &World) -> Vec<Vec2> {
     (0..world.body_count())
-        .map(|i| world.body(i).position)
+        .map(|i| world.body(BodyId::scene(i)).unwrap().position)
         .collect()
 }
 
@@ -49,19 +50,19 @@ fn column(rows: usize, mu: f32) -> SceneDef {
 fn check_column(scene: &SceneDef) {
     let mut w = world(scene);
     let top = scene.bodies.len() - 1;
-    let start = w.body(top).position;
+    let start = w.body(BodyId::scene(top)).unwrap().position;
     // 10 s at the scene's 60 Hz.
     let steps = (10.0 / scene.dt).round() as u32;
     let mut worst_drift = 0.0_f32;
     let mut worst_dy = 0.0_f32;
     for _ in 0..steps {
         w.step(scene.dt, scene.substeps);
-        let p = w.body(top).position;
+        let p = w.body(BodyId::scene(top)).unwrap().position;
         worst_drift = worst_drift.max((p.x - start.x).abs());
         worst_dy = worst_dy.max((p.y - start.y).abs());
     }
     assert!(all_finite(&w), "{}: non-finite state", scene.name);
-    let p = w.body(top).position;
+    let p = w.body(BodyId::scene(top)).unwrap().position;
     let (drift, dy) = ((p.x - start.x).abs(), p.y - start.y);
     eprintln!(
         "{}: top box drift {drift} m (worst {worst_drift}), height change {dy} m (worst |dy| {worst_dy})",
@@ -143,11 +144,11 @@ fn large_pyramid_does_not_lean() {
     let scene = builtin("large_pyramid");
     let mut w = world(&scene);
     let top = scene.bodies.len() - 1;
-    let x0 = w.body(top).position.x;
+    let x0 = w.body(BodyId::scene(top)).unwrap().position.x;
     let mut drift = 0.0_f32;
     for _ in 0..scene.steps {
         w.step(scene.dt, scene.substeps);
-        drift = drift.max((w.body(top).position.x - x0).abs());
+        drift = drift.max((w.body(BodyId::scene(top)).unwrap().position.x - x0).abs());
     }
     assert!(all_finite(&w), "large_pyramid: non-finite state");
     eprintln!("large_pyramid: top box drift {drift} m");
@@ -210,18 +211,20 @@ fn overlap_recovery(hertz: f32) -> Recovery {
     for step in 0..600 {
         w.step(scene.dt, scene.substeps);
         for i in 0..w.body_count() {
-            let v = w.body(i).linear_velocity.length();
+            let v = w.body(BodyId::scene(i)).unwrap().linear_velocity.length();
             if v > r.peak {
                 (r.peak, r.peak_step, r.peak_body) = (v, step, i);
             }
         }
-        r.top_max = r.top_max.max(w.body(top).position.y);
+        r.top_max = r
+            .top_max
+            .max(w.body(BodyId::scene(top)).unwrap().position.y);
     }
     assert!(
         all_finite(&w),
         "overlap_recovery at {hertz} Hz: non-finite state"
     );
-    r.top_final = w.body(top).position.y;
+    r.top_final = w.body(BodyId::scene(top)).unwrap().position.y;
     r.deepest = w
         .contacts()
         .flat_map(|c| c.manifold.points().iter().map(|p| p.separation))

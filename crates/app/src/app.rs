@@ -722,7 +722,7 @@ impl App {
         Stats {
             frames,
             steps: sim.map_or(0, |s| s.total_steps),
-            bodies: sim.map_or(0, |s| s.world.live_body_count()),
+            bodies: sim.map_or(0, |s| s.world.body_count()),
             awake_bodies: sim.map_or(0, |s| s.world.awake_body_count()),
             threads: sim.map_or(0, |s| s.world.thread_count()),
             backend: shared.backend.clone(),
@@ -741,8 +741,7 @@ impl App {
 fn mean_dynamic_height(sim: &Sim) -> f64 {
     let world = &sim.world;
     let (mut sum, mut n) = (0.0f64, 0usize);
-    for i in (0..world.body_count()).filter(|&i| world.is_body(i)) {
-        let body = world.body(i);
+    for (_, body) in world.bodies() {
         if body.kind == tumble_physics::BodyKind::Dynamic {
             sum += f64::from(body.position.y);
             n += 1;

@@ -97,7 +97,11 @@ pub fn world_bounds(world: &World) -> Aabb {
         // Every shape of every live body.
         for shape in world.shapes() {
             let b = shape.fat_aabb;
-            if !statics && world.body(shape.body).kind == BodyKind::Static {
+            if !statics
+                && world
+                    .body(shape.body)
+                    .is_ok_and(|b| b.kind == BodyKind::Static)
+            {
                 continue;
             }
             if b.min.is_finite() && b.max.is_finite() {

@@ -5,7 +5,7 @@
 //! deepest overlap and the kinetic energy.
 
 use glam::Vec2;
-use tumble_physics::{BodyKind, SceneDef, World};
+use tumble_physics::{BodyId, BodyKind, SceneDef, World};
 
 /// Which error a scene is judged by.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -71,9 +71,8 @@ impl Metrics {
     pub fn new(scene: &SceneDef, world: &World) -> Metrics {
         let case = Case::of(&scene.name);
         let start = match case {
-            Case::Displacement { .. } => (0..world.body_count())
-                .map(|i| world.body(i).position)
-                .collect(),
+            // By the scene's index, which is the body's id's (`BodyId::scene`).
+            Case::Displacement { .. } => world.bodies().map(|(_, b)| b.position).collect(),
             _ => Vec::new(),
         };
         let energy0 = world.kinetic_energy();
@@ -98,17 +97,17 @@ impl Metrics {
         self.value = match self.case {
             // The scene's bodies that are still there (a body the user dropped later may
             // have taken a removed one's slot, under a new generation).
-            Case::Displacement { .. } => (0..world.body_count().min(self.start.len()))
-                .filter(|&i| world.body_id(i).is_some_and(|id| id.generation == 0))
-                .filter(|&i| world.body(i).kind == BodyKind::Dynamic)
-                .map(|i| f64::from((world.body(i).position - self.start[i]).length()))
+            Case::Displacement { .. } => (0..self.start.len())
+                .filter_map(|i| world.body(BodyId::scene(i)).ok().map(|b| (i, b)))
+                .filter(|(_, b)| b.kind == BodyKind::Dynamic)
+                .map(|(i, b)| f64::from((b.position - self.start[i]).length()))
                 .fold(0.0, f64::max),
             Case::EnergyDrift { .. } if self.energy0 > 0.0 => {
                 (self.energy / self.energy0 - 1.0).abs()
             }
-            Case::PeakSpeed { .. } => (0..world.body_count())
-                .filter(|&i| world.is_body(i))
-                .map(|i| f64::from(world.body(i).linear_velocity.length()))
+            Case::PeakSpeed { .. } => world
+                .bodies()
+                .map(|(_, b)| f64::from(b.linear_velocity.length()))
                 .fold(0.0, f64::max),
             _ => 0.0,
         };

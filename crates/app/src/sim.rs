@@ -85,7 +85,7 @@ impl FixedStep {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Drag {
     /// The body held.
-    pub body: usize,
+    pub body: BodyId,
     /// The held point in the body's frame.
     pub local_anchor: Vec2,
     /// Where the pointer is, in the world.
@@ -122,7 +122,7 @@ fn find_mouse(world: &World) -> Option<JointId> {
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Mouse {
     joint: JointId,
-    serves: Option<(usize, Vec2)>,
+    serves: Option<(BodyId, Vec2)>,
 }
 
 /// Makes the world's mouse joint follow `drag`: moves its target, or replaces it when the
@@ -132,9 +132,7 @@ fn sync_mouse(world: &mut World, mouse: Option<Mouse>, drag: Option<Drag>) -> Op
     if let (Some(m), Some(d)) = (live, drag) {
         let same = match m.serves {
             Some(held) => held == (d.body, d.local_anchor),
-            None => world
-                .joint(m.joint)
-                .is_ok_and(|j| j.body_b as usize == d.body),
+            None => world.joint_bodies(m.joint).is_ok_and(|[_, b]| b == d.body),
         };
         if same {
             world.set_mouse_target(m.joint, d.target).ok()?;
@@ -148,15 +146,11 @@ fn sync_mouse(world: &mut World, mouse: Option<Mouse>, drag: Option<Drag>) -> Op
         let _ = world.destroy_joint(m.joint);
     }
     let d = drag?;
-    if d.body >= world.body_count() || !world.is_body(d.body) {
-        return None;
-    }
-    let b = world.body(d.body);
-    let mass = world.mass(d.body);
+    let (b, mass) = (world.body(d.body).ok()?, world.mass(d.body).ok()?);
     if b.kind != BodyKind::Dynamic || mass <= 0.0 {
         return None;
     }
-    let body = world.body_id(d.body)?;
+    let body = d.body;
     let anchor = d.anchor(b.position, b.rotation);
     let max_force = DRAG_MAX_FORCE_PER_KG * mass;
     let joint = world
@@ -739,7 +733,7 @@ impl Sim {
             .snapshot_if_due(self.steps, &self.world, per_snapshot);
         let made = edit.apply(&mut self.world)?;
         if let Edit::Destroy(id) = &edit
-            && self.drag.is_some_and(|d| d.body == id.index as usize)
+            && self.drag.is_some_and(|d| d.body == *id)
         {
             self.drag = None;
         }
@@ -763,15 +757,12 @@ impl Sim {
     /// scene's ground and walls stay, so a stray key cannot empty a container. Returns the
     /// removed body's id; `None` with nothing (or only a static body) there.
     pub fn remove_at(&mut self, point: Vec2) -> Result<Option<BodyId>> {
-        let Some(index) = self.world.body_at(point) else {
+        let Some(id) = self.world.body_at(point) else {
             return Ok(None);
         };
-        if self.world.body(index).kind == BodyKind::Static {
+        if self.world.body(id)?.kind == BodyKind::Static {
             return Ok(None);
         }
-        let Some(id) = self.world.body_id(index) else {
-            return Ok(None);
-        };
         self.edit(Edit::Destroy(id))?;
         Ok(Some(id))
     }
@@ -781,7 +772,9 @@ impl Sim {
         let Some(body) = self.world.body_at(point) else {
             return false;
         };
-        let view = self.world.body(body);
+        let Ok(view) = self.world.body(body) else {
+            return false;
+        };
         if view.kind != BodyKind::Dynamic {
             return false;
         }
@@ -862,7 +855,7 @@ mod tests {
         // The held point reaches the pointer (the disc may turn about it: the pull acts at
         // the point, as Box2D's mouse joint does). Without gravity the spring has no sag:
         // 1 mm allows the last of its damped swing after 4 s.
-        let b = sim.world.body(0);
+        let b = sim.world.body(BodyId::scene(0)).unwrap();
         let held = sim.drag.unwrap().anchor(b.position, b.rotation);
         assert!((held - Vec2::new(3.1, 2.0)).length() < 1e-3, "{held}");
         assert_eq!(sim.world.joint_count(), 1, "one mouse joint");
@@ -880,7 +873,7 @@ mod tests {
         for _ in 0..n {
             let i = sim.steps;
             if i == 60 {
-                let p = sim.world.body(body).position;
+                let p = sim.world.body(BodyId::scene(body)).unwrap().position;
                 assert!(sim.grab(p));
                 sim.drag.as_mut().unwrap().target = p + Vec2::new(2.0, 3.0);
             }
@@ -963,24 +956,30 @@ mod tests {
     #[test]
     fn drops_and_removals_are_replayed_bit_for_bit() {
         let mut sim = Sim::new(scene("falling_circles"), 2).unwrap();
-        let bodies = sim.world.live_body_count();
+        let bodies = sim.world.body_count();
         assert_eq!(bodies, sim.scene.bodies.len());
         // Before the first step: the snapshot of step 0 must show the world without it.
         let first = sim.drop_box(Vec2::new(-3.0, 12.0)).unwrap();
         valid(&sim.world);
         assert_eq!(first.index as usize, bodies);
-        assert_eq!(sim.world.live_body_count(), bodies + 1);
-        assert_eq!(sim.world.body(bodies).kind, BodyKind::Dynamic);
-        assert_eq!(sim.world.body(bodies).position, Vec2::new(-3.0, 12.0));
+        assert_eq!(sim.world.body_count(), bodies + 1);
+        assert_eq!(
+            sim.world.body(BodyId::scene(bodies)).unwrap().kind,
+            BodyKind::Dynamic
+        );
+        assert_eq!(
+            sim.world.body(BodyId::scene(bodies)).unwrap().position,
+            Vec2::new(-3.0, 12.0)
+        );
         steps(&mut sim, 60);
         // At the step of a snapshot (one a second).
         sim.drop_ball(Vec2::new(3.0, 12.0)).unwrap();
         valid(&sim.world);
-        assert_eq!(sim.world.live_body_count(), bodies + 2);
+        assert_eq!(sim.world.body_count(), bodies + 2);
         steps(&mut sim, 40);
         // Remove a falling circle, held on the mouse spring: the spring lets go.
         let victim = sim.world.body_count() - 5;
-        let at = sim.world.body(victim).position;
+        let at = sim.world.body(BodyId::scene(victim)).unwrap().position;
         assert!(sim.grab(at));
         let removed = sim
             .remove_at(at)
@@ -988,12 +987,12 @@ mod tests {
             .expect("a body under the pointer");
         valid(&sim.world);
         assert_eq!(removed.index as usize, victim);
-        assert!(!sim.world.is_body(victim));
-        assert_eq!(sim.world.live_body_count(), bodies + 1);
+        assert!(!sim.world.contains_body(BodyId::scene(victim)));
+        assert_eq!(sim.world.body_count(), bodies + 1);
         assert_eq!(sim.drag, None);
         // The ground stays.
         assert_eq!(sim.remove_at(Vec2::new(30.0, -1.0)).unwrap(), None);
-        assert_eq!(sim.world.live_body_count(), bodies + 1);
+        assert_eq!(sim.world.body_count(), bodies + 1);
         // Nothing to remove in empty space.
         assert_eq!(sim.remove_at(Vec2::new(30.0, 50.0)).unwrap(), None);
         steps(&mut sim, 20);
@@ -1006,25 +1005,21 @@ mod tests {
         // Made after the last step, just before the replay starts.
         let last = sim.drop_ball(Vec2::new(-6.0, 14.0)).unwrap();
         valid(&sim.world);
-        let (hash, steps_then, live) = (
-            sim.world.state_hash(),
-            sim.steps,
-            sim.world.live_body_count(),
-        );
+        let (hash, steps_then, live) = (sim.world.state_hash(), sim.steps, sim.world.body_count());
         assert_eq!(live, bodies + 3);
 
         assert!(sim.start_replay());
         assert_eq!(sim.replay.map(|r| (r.from, r.until)), Some((0, 180)));
         // Back before the first drop.
-        assert_eq!(sim.world.live_body_count(), bodies);
+        assert_eq!(sim.world.body_count(), bodies);
         while sim.replay.is_some() {
             sim.single_step();
             valid(&sim.world);
         }
         assert_eq!(sim.steps, steps_then);
-        assert_eq!(sim.world.live_body_count(), live);
-        assert!(sim.world.is_body(last.index as usize));
-        assert_eq!(sim.world.body_id(victim), Some(again));
+        assert_eq!(sim.world.body_count(), live);
+        assert!(sim.world.contains_body(last));
+        assert!(sim.world.contains_body(again) && again.index as usize == victim);
         assert_eq!(sim.world.state_hash(), hash);
 
         // And the run goes on as it would have without the replay.
@@ -1047,19 +1042,19 @@ mod tests {
     #[test]
     fn a_stopped_replay_forgets_the_edits_it_did_not_reach() {
         let mut sim = Sim::new(scene("falling_circles"), 1).unwrap();
-        let bodies = sim.world.live_body_count();
+        let bodies = sim.world.body_count();
         sim.drop_box(Vec2::new(-3.0, 12.0)).unwrap();
         steps(&mut sim, 100);
         sim.drop_ball(Vec2::new(3.0, 12.0)).unwrap();
         steps(&mut sim, 100);
-        assert_eq!(sim.world.live_body_count(), bodies + 2);
+        assert_eq!(sim.world.body_count(), bodies + 2);
         assert!(sim.start_replay());
         steps(&mut sim, 50);
-        assert_eq!(sim.world.live_body_count(), bodies + 1);
+        assert_eq!(sim.world.body_count(), bodies + 1);
         sim.stop_replay();
         // Live from step 50: the ball of step 100 is not made again.
         steps(&mut sim, 150);
-        assert_eq!(sim.world.live_body_count(), bodies + 1);
+        assert_eq!(sim.world.body_count(), bodies + 1);
         valid(&sim.world);
         // An edit during a replay stops it and is made live.
         let hash = sim.world.state_hash();
@@ -1068,17 +1063,17 @@ mod tests {
         sim.drop_ball(Vec2::new(0.0, 20.0)).unwrap();
         assert_eq!(sim.replay, None);
         assert_eq!(sim.steps, 10);
-        assert_eq!(sim.world.live_body_count(), bodies + 2);
+        assert_eq!(sim.world.body_count(), bodies + 2);
         steps(&mut sim, 190);
         // A replay of this new past ends where it is, the ball included.
-        let (hash2, live) = (sim.world.state_hash(), sim.world.live_body_count());
+        let (hash2, live) = (sim.world.state_hash(), sim.world.body_count());
         assert_ne!(hash2, hash);
         assert!(sim.start_replay());
         while sim.replay.is_some() {
             sim.single_step();
         }
         assert_eq!(sim.steps, 200);
-        assert_eq!(sim.world.live_body_count(), live);
+        assert_eq!(sim.world.body_count(), live);
         assert_eq!(sim.world.state_hash(), hash2);
     }
 
@@ -1088,7 +1083,7 @@ mod tests {
         sim.drop_box(Vec2::new(-3.0, 12.0)).unwrap();
         steps(&mut sim, 50);
         let victim = sim.world.body_count() - 3;
-        let at = sim.world.body(victim).position;
+        let at = sim.world.body(BodyId::scene(victim)).unwrap().position;
         sim.remove_at(at).unwrap().unwrap();
         let text = sim.save().to_json();
         let mut other = Sim::new(scene("pyramid"), 2).unwrap();
@@ -1096,8 +1091,8 @@ mod tests {
             .restore(SavedWorld::from_json(&text, "saved.json").unwrap())
             .unwrap();
         valid(&other.world);
-        assert_eq!(other.world.live_body_count(), sim.world.live_body_count());
-        assert!(!other.world.is_body(victim));
+        assert_eq!(other.world.body_count(), sim.world.body_count());
+        assert!(!other.world.contains_body(BodyId::scene(victim)));
         steps(&mut sim, 60);
         steps(&mut other, 60);
         assert_eq!(sim.world.state_hash(), other.world.state_hash());
@@ -1111,7 +1106,7 @@ mod tests {
         let mut sim = Sim::new(Arc::clone(&junkyard), 2).unwrap();
         assert!(sim.script.is_some());
         steps(&mut sim, 70);
-        let x = sim.world.body(pusher).origin.x;
+        let x = sim.world.body(BodyId::scene(pusher)).unwrap().origin.x;
         // x = 60 sin(0.2 t) at t = 70/60 s: the script ran before every step.
         let expected = 60.0 * (0.2f32 * 69.0 / 60.0).sin();
         assert!(
@@ -1123,7 +1118,7 @@ mod tests {
         while sim.replay.is_some() {
             sim.single_step();
         }
-        assert_eq!(sim.world.body(pusher).origin.x, x);
+        assert_eq!(sim.world.body(BodyId::scene(pusher)).unwrap().origin.x, x);
         assert_eq!(sim.world.state_hash(), hash);
         // Only the built-in itself has the script: not another scene, not one changed.
         assert!(Sim::new(scene("pyramid"), 1).unwrap().script.is_none());

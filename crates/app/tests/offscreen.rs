@@ -10,6 +10,7 @@
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
+use tumble_physics::BodyId;
 
 use glam::Vec2;
 use tumble_app::camera::Camera;
@@ -311,7 +312,10 @@ fn every_part_of_a_compound_body_is_drawn_and_a_sleeping_one_faded() {
     scene.push(body(-2.5, true));
     scene.push(body(2.5, false));
     let sim = Sim::new(Arc::new(scene), 1).unwrap();
-    assert!(sim.world.is_awake(0) && !sim.world.is_awake(1));
+    assert!(
+        sim.world.is_awake(BodyId::scene(0)).unwrap()
+            && !sim.world.is_awake(BodyId::scene(1)).unwrap()
+    );
     let cam = Camera::new(Vec2::ZERO, 25.0, Vec2::new(WIDTH as f32, HEIGHT as f32));
     let (image, renderer) = render(&gpu, &sim, &cam, &DebugDraw::default());
     // Two bodies, four shapes: two circles, two polygons.
@@ -455,7 +459,7 @@ fn joints_are_drawn_between_their_anchors() {
     let a = scene.push(BodyDef::new(ShapeDef::Circle { radius: 0.3 }).at(-3.0, 0.0));
     let b = scene.push(BodyDef::new(ShapeDef::Circle { radius: 0.3 }).at(3.0, 0.0));
     scene.joints.push(JointDef::Distance {
-        bodies: [a, b],
+        bodies: [a, b].map(BodyId::scene),
         anchors: [[-3.0, 0.0], [3.0, 0.0]],
         length: None,
         limit: None,

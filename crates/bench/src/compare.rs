@@ -114,7 +114,7 @@ mod imp {
 
     use anyhow::{Context, Result, bail};
     use indicatif::{ProgressBar, ProgressStyle};
-    use tumble_physics::{SceneDef, StepSettings, World};
+    use tumble_physics::{BodyId, SceneDef, StepSettings, World};
 
     use super::{CompareArgs, ENGINES, Engine};
     use crate::machine;
@@ -192,11 +192,11 @@ mod imp {
         /// The body frame's origin, as the peers and the runner report it (the centre of mass
         /// for a body of one shape).
         fn pose(&mut self, index: usize) -> Result<[f32; 3]> {
-            let b = self.world.body(index);
+            let b = self.world.body(BodyId::scene(index))?;
             Ok([b.origin.x, b.origin.y, b.angle])
         }
         fn velocity(&mut self, index: usize) -> Result<[f32; 3]> {
-            let b = self.world.body(index);
+            let b = self.world.body(BodyId::scene(index))?;
             Ok([b.linear_velocity.x, b.linear_velocity.y, b.angular_velocity])
         }
         fn stages(&mut self) -> Vec<(&'static str, f64)> {

@@ -201,19 +201,29 @@ pub fn run(args: &RunArgs) -> Result<()> {
             .map(|&(name, total)| (format!("{name}_ms_mean"), mean(total))),
     );
 
-    // A scene's bodies keep their slots (nothing is destroyed in a run). The position is
-    // the body frame's origin: for a body of one shape its centre of mass, for a body of
-    // several where the scene placed its frame (CONTRACT.md section 5).
-    let bodies = (0..world.body_count())
-        .map(|i| {
-            let b = world.body(i);
-            BodyState {
-                position: [b.origin.x, b.origin.y],
-                angle: b.angle,
-                linear_velocity: [b.linear_velocity.x, b.linear_velocity.y],
-                angular_velocity: b.angular_velocity,
-                awake: b.awake,
-            }
+    // The file names a body by its index in the scene, which is its id's index: a body a
+    // script destroys is made again in its slot before the step (rain's waves), so every
+    // index is live at the end. The position is the body frame's origin: for a body of one
+    // shape its centre of mass, for a body of several where the scene placed its frame
+    // (CONTRACT.md section 5).
+    if let Some((k, id)) = world
+        .body_ids()
+        .enumerate()
+        .find(|(k, id)| id.index as usize != *k)
+    {
+        anyhow::bail!(
+            "scene {:?}: no body at index {k} at the end of the run ({id} follows)",
+            scene.name
+        );
+    }
+    let bodies = world
+        .bodies()
+        .map(|(_, b)| BodyState {
+            position: [b.origin.x, b.origin.y],
+            angle: b.angle,
+            linear_velocity: [b.linear_velocity.x, b.linear_velocity.y],
+            angular_velocity: b.angular_velocity,
+            awake: b.awake,
         })
         .collect();
     let report = Report {

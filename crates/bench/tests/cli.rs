@@ -180,7 +180,7 @@ fn the_json_reads_back_bit_for_bit() {
     let bodies = doc["bodies"].as_array().unwrap();
     assert_eq!(bodies.len(), world.body_count());
     for (i, b) in bodies.iter().enumerate() {
-        let v = world.body(i);
+        let v = world.body(tumble_physics::BodyId::scene(i)).unwrap();
         let read: f32 = serde_json::from_value(b["position"][0].clone()).unwrap();
         assert_eq!(read.to_bits(), v.position.x.to_bits(), "body {i} x");
         let read: f32 = serde_json::from_value(b["position"][1].clone()).unwrap();

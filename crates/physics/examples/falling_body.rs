@@ -31,7 +31,7 @@ fn main() {
     for step in 1..=90 {
         world.step(1.0 / 60.0, 4);
         if step % 15 == 0 {
-            let body = world.body(b.index as usize);
+            let body = world.body(b).expect("the body");
             println!(
                 "t = {:.2} s: y = {:.3} m, vy = {:.2} m/s",
                 step as f32 / 60.0,
@@ -41,6 +41,6 @@ fn main() {
         }
     }
     // It fell √(2 · 4 / 10) ≈ 0.9 s and rests on the ground, its centre 0.5 m up.
-    let y = world.body(b.index as usize).position.y;
+    let y = world.body(b).expect("the body").position.y;
     assert!((y - 0.5).abs() < 0.02, "the box rests at y = {y}");
 }

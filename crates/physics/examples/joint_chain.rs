@@ -15,7 +15,7 @@ fn main() {
         )
         .expect("anchor");
     // Ten capsule links 1 m long, laid out to the right of the anchor.
-    let mut previous = anchor.index as usize;
+    let mut previous = anchor;
     for i in 0..10 {
         let link = world
             .create_body(
@@ -30,7 +30,7 @@ fn main() {
         // Hinged at the point the two share, in world coordinates.
         world
             .create_joint(&JointDef::Revolute {
-                bodies: [previous, link.index as usize],
+                bodies: [previous, link],
                 anchor: [i as f32, 10.0],
                 limit: None,
                 motor: None,
@@ -39,18 +39,18 @@ fn main() {
                 anchor_b: None,
             })
             .expect("joint");
-        previous = link.index as usize;
+        previous = link;
     }
     for step in 1..=240 {
         world.step(1.0 / 60.0, 4);
         if step % 60 == 0 {
-            let end = world.body(previous).position;
+            let end = world.body(previous).expect("the last link").position;
             println!("t = {} s: the last link's centre is at {end}", step / 60);
         }
     }
     // However it swings, each hinge holds: the last link's centre stays within 9.5 m of the
     // anchor (with a 1 cm allowance for the soft joints).
-    let end = world.body(previous).position;
+    let end = world.body(previous).expect("the last link").position;
     let reach = (end - tumble_physics::Vec2::new(0.0, 10.0)).length();
     assert!(reach <= 9.51, "the chain stretched to {reach} m");
     assert_eq!(world.joint_count(), 10);

@@ -67,6 +67,23 @@ impl fmt::Display for ShapeId {
     }
 }
 
+/// A joint definition's two bodies as a scene file writes them: by their index in the
+/// scene's `bodies`, which is a scene body's `BodyId::index` (generation 0). Written back the
+/// same way, so a definition's bodies of a later generation are written by slot alone.
+pub(crate) mod scene_bodies {
+    use super::BodyId;
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    pub fn serialize<S: Serializer>(bodies: &[BodyId; 2], s: S) -> Result<S::Ok, S::Error> {
+        [bodies[0].index, bodies[1].index].serialize(s)
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<[BodyId; 2], D::Error> {
+        let [a, b] = <[u32; 2]>::deserialize(d)?;
+        Ok([BodyId::scene(a as usize), BodyId::scene(b as usize)])
+    }
+}
+
 /// Slots of one kind of object: which are in use, each slot's generation, and the free
 /// slots, reused lowest first so that a run that creates and destroys the same things gets
 /// the same ids (determinism does not depend on it; replays are easier to read).

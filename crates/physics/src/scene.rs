@@ -888,8 +888,10 @@ impl SceneDef {
                 ),
             ));
         }
-        let frames = |i: usize| {
-            self.bodies.get(i).map(|b| crate::joint::def::JointFrame {
+        // A scene's joints name its bodies by index: generation 0.
+        let frames = |id: crate::BodyId| {
+            let body = (id.generation == 0).then(|| self.bodies.get(id.index as usize));
+            body.flatten().map(|b| crate::joint::def::JointFrame {
                 frame: crate::Transform {
                     p: glam::Vec2::from(b.position),
                     q: crate::Rot::from_angle(b.angle),

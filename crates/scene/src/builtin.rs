@@ -15,7 +15,7 @@ pub mod rain;
 use std::f32::consts::PI;
 
 use tumble_physics::joint::AngularMotor;
-use tumble_physics::{BodyDef, BodyKind, Filter, JointDef, PartDef, SceneDef, ShapeDef};
+use tumble_physics::{BodyDef, BodyId, BodyKind, Filter, JointDef, PartDef, SceneDef, ShapeDef};
 
 /// Menu order: a friendly default first, then the hard cases, then the big benchmarks.
 const NAMES: &[&str] = &[
@@ -1051,7 +1051,7 @@ fn tumbler() -> SceneDef {
         .at(cx, cy),
     );
     scene.joints.push(JointDef::Revolute {
-        bodies: [0, drum],
+        bodies: [0, drum].map(BodyId::scene),
         anchor: [cx, cy],
         limit: None,
         motor: Some(AngularMotor {
@@ -1170,15 +1170,17 @@ fn joint_grid() -> SceneDef {
                     .filter(filter),
             );
             if i > 0 {
-                scene
-                    .joints
-                    .push(JointDef::hinge([body - 1, body], [x, y + 0.5]));
+                scene.joints.push(JointDef::hinge(
+                    [body - 1, body].map(BodyId::scene),
+                    [x, y + 0.5],
+                ));
             }
             let left_fixed = k > 0 && (N / 2 - 3..=N / 2 + 3).contains(&(k - 1)) && i == 0;
             if k > 0 && !(fixed && left_fixed) {
-                scene
-                    .joints
-                    .push(JointDef::hinge([body - N, body], [x - 0.5, y]));
+                scene.joints.push(JointDef::hinge(
+                    [body - N, body].map(BodyId::scene),
+                    [x - 0.5, y],
+                ));
             }
         }
     }
@@ -1214,18 +1216,20 @@ fn ball_and_chain() -> SceneDef {
             })
             .at((1.0 + 2.0 * i as f32) * hx, y),
         ));
-        scene
-            .joints
-            .push(JointDef::hinge([prev, link], [2.0 * i as f32 * hx, y]));
+        scene.joints.push(JointDef::hinge(
+            [prev, link].map(BodyId::scene),
+            [2.0 * i as f32 * hx, y],
+        ));
         prev = link;
     }
     let radius = 8.0;
     let ball = scene.push(damped(
         BodyDef::new(circle(radius)).at((1.0 + 2.0 * COUNT as f32) * hx + radius - hx, y),
     ));
-    scene
-        .joints
-        .push(JointDef::hinge([prev, ball], [2.0 * COUNT as f32 * hx, y]));
+    scene.joints.push(JointDef::hinge(
+        [prev, ball].map(BodyId::scene),
+        [2.0 * COUNT as f32 * hx, y],
+    ));
     scene
 }
 
@@ -1246,14 +1250,16 @@ fn bridge() -> SceneDef {
                 .density(20.0)
                 .damping(0.1, 0.1),
         );
-        scene
-            .joints
-            .push(JointDef::hinge([prev, plank], [base + i as f32, 20.0]));
+        scene.joints.push(JointDef::hinge(
+            [prev, plank].map(BodyId::scene),
+            [base + i as f32, 20.0],
+        ));
         prev = plank;
     }
-    scene
-        .joints
-        .push(JointDef::hinge([prev, ground], [base + COUNT as f32, 20.0]));
+    scene.joints.push(JointDef::hinge(
+        [prev, ground].map(BodyId::scene),
+        [base + COUNT as f32, 20.0],
+    ));
     scene
 }
 
@@ -1277,7 +1283,7 @@ fn stretched_chain() -> SceneDef {
     for _ in 0..COUNT {
         let disc = scene.push(BodyDef::new(circle(0.2)).at(0.0, y).filter(apart));
         scene.joints.push(JointDef::Revolute {
-            bodies: [prev, disc],
+            bodies: [prev, disc].map(BodyId::scene),
             anchor: above,
             limit: None,
             motor: None,
@@ -1490,7 +1496,7 @@ fn human(
         );
         if let Some(parent) = bone.parent {
             scene.joints.push(JointDef::Revolute {
-                bodies: [first + parent, index],
+                bodies: [first + parent, index].map(BodyId::scene),
                 anchor: [at[0], at[1] + bone.pivot],
                 limit: Some([bone.limit[0] * PI, bone.limit[1] * PI]),
                 motor: Some(AngularMotor {
@@ -1554,7 +1560,7 @@ fn spinner() -> SceneDef {
     paddle.enable_sleep = false;
     let paddle = scene.push(paddle);
     scene.joints.push(JointDef::Revolute {
-        bodies: [0, paddle],
+        bodies: [0, paddle].map(BodyId::scene),
         anchor: [0.0, 12.0],
         limit: None,
         motor: Some(AngularMotor {
@@ -1619,7 +1625,7 @@ mod tests {
                 script(0, &mut world);
                 moving = world
                     .body_ids()
-                    .filter(|&id| world.get(id).unwrap().kind == BodyKind::Dynamic)
+                    .filter(|&id| world.body(id).unwrap().kind == BodyKind::Dynamic)
                     .count();
             }
             assert!(moving > 0, "{name} has nothing moving");

@@ -10,7 +10,7 @@ use std::mem::{offset_of, size_of};
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec2;
-use tumble_physics::{BodyKind, MAX_POLYGON_VERTICES, Shape, World};
+use tumble_physics::{BodyId, BodyKind, MAX_POLYGON_VERTICES, Shape, World};
 use wgpu::{VertexAttribute, VertexBufferLayout, VertexFormat, VertexStepMode};
 
 use crate::camera::Camera;
@@ -294,15 +294,20 @@ impl Instances {
 
     /// A body's fill colour (before dimming): by kind, dynamic ones by `coloring`, and a
     /// sleeping one faded toward the background ([`asleep`]).
-    pub fn body_color(world: &World, index: usize, coloring: Coloring) -> [f32; 3] {
-        let body = world.body(index);
+    pub fn body_color(world: &World, id: BodyId, coloring: Coloring) -> [f32; 3] {
+        let Ok(body) = world.body(id) else {
+            return palette::STATIC;
+        };
+        let index = id.index as usize;
         let rgb = match body.kind {
             BodyKind::Static => palette::STATIC,
             BodyKind::Kinematic => palette::KINEMATIC,
             BodyKind::Dynamic => match coloring {
                 Coloring::Speed => speed_color(body.linear_velocity.length()),
                 Coloring::Island => world
-                    .island_of(index)
+                    .island_of(id)
+                    .ok()
+                    .flatten()
                     .map_or_else(|| dynamic_color(index), island_color),
                 Coloring::Id => dynamic_color(index),
             },
@@ -319,7 +324,7 @@ impl Instances {
     /// `dim` darkens everything (0: no change).
     pub fn add_bodies(&mut self, world: &World, coloring: Coloring, dim: f32) {
         // A body's shapes are mostly neighbours: its colour is worked out once per run.
-        let mut last: Option<(usize, [f32; 4])> = None;
+        let mut last: Option<(BodyId, [f32; 4])> = None;
         for view in world.shapes() {
             let color = match last {
                 Some((body, color)) if body == view.body => color,
@@ -378,9 +383,9 @@ impl Instances {
     /// too stand out.
     pub fn add_bullets(&mut self, world: &World, camera: &Camera) {
         let half = 5.0 / camera.pixels_per_metre;
-        for i in 0..world.body_count() {
-            if world.is_body(i) && world.is_bullet(i) {
-                let p = world.body(i).position;
+        for (_, body) in world.bodies() {
+            if body.bullet {
+                let p = body.position;
                 let c = [1.0, 1.0, 1.0, 0.95];
                 self.line(p - Vec2::new(half, half), p + Vec2::new(half, half), c);
                 self.line(p - Vec2::new(half, -half), p + Vec2::new(half, -half), c);
@@ -456,7 +461,8 @@ impl Instances {
         if debug.aabbs {
             for view in world.shapes() {
                 let b = view.fat_aabb;
-                let c = match world.body(view.body).kind {
+                let kind = world.body(view.body).map_or(BodyKind::Static, |b| b.kind);
+                let c = match kind {
                     BodyKind::Static => [0.5, 0.7, 0.5, 0.6],
                     BodyKind::Kinematic => [0.7, 0.6, 1.0, 0.6],
                     BodyKind::Dynamic => [0.9, 0.4, 0.9, 0.6],
@@ -519,9 +525,8 @@ impl Instances {
         }
         if debug.center_of_mass {
             let len = 10.0 * px;
-            for i in 0..world.body_count() {
-                let b = world.body(i);
-                if !world.is_body(i) || b.kind == BodyKind::Static {
+            for (_, b) in world.bodies() {
+                if b.kind == BodyKind::Static {
                     continue;
                 }
                 let x = b.rotation.apply(Vec2::X) * len;
@@ -543,13 +548,17 @@ impl Instances {
         let px = 1.0 / camera.pixels_per_metre;
         let color = [0.55, 0.85, 0.85, 0.9];
         for id in world.joint_ids() {
-            let (Ok(joint), Ok([pa, pb])) = (world.joint(id), world.joint_anchors(id)) else {
+            let (Ok(joint), Ok([pa, pb]), Ok(bodies)) = (
+                world.joint(id),
+                world.joint_anchors(id),
+                world.joint_bodies(id),
+            ) else {
                 continue;
             };
-            let (ca, cb) = (
-                world.body(joint.body_a as usize).position,
-                world.body(joint.body_b as usize).position,
-            );
+            let (Ok(body_a), Ok(body_b)) = (world.body(bodies[0]), world.body(bodies[1])) else {
+                continue;
+            };
+            let (ca, cb) = (body_a.position, body_b.position);
             match joint.kind {
                 JointKind::Mouse(_) | JointKind::Filter => continue,
                 JointKind::Distance(_) => self.line(pa, pb, color),
@@ -563,10 +572,7 @@ impl Instances {
             self.marker(pb, 2.5 * px, color);
             // A slider's axis (fixed in A) and its limit's ends; a hinge's limit as two
             // spokes from the hinge at the bounds, counted from frame A.
-            let frame_a = world
-                .body(joint.body_a as usize)
-                .rotation
-                .then_from(joint.local_a.q);
+            let frame_a = body_a.rotation.then_from(joint.local_a.q);
             let limit_color = [1.0, 0.8, 0.3, 0.9];
             match &joint.kind {
                 JointKind::Prismatic(tumble_physics::joint::Prismatic { limit, .. })
@@ -622,10 +628,9 @@ impl Instances {
 
     /// The held body's spring: a line from its anchor to the pointer.
     pub fn add_drag(&mut self, world: &World, drag: &crate::sim::Drag, camera: &Camera) {
-        if drag.body >= world.body_count() || !world.is_body(drag.body) {
+        let Ok(b) = world.body(drag.body) else {
             return;
-        }
-        let b = world.body(drag.body);
+        };
         let anchor = drag.anchor(b.position, b.rotation);
         let c = [1.0, 1.0, 1.0, 0.9];
         self.line(anchor, drag.target, c);
@@ -738,9 +743,9 @@ mod tests {
         let mut inst = Instances::default();
         inst.add_bodies(&world, Coloring::Id, 0.0);
         assert_eq!((inst.circles.len(), inst.polygons.len()), (1, 1));
-        let shapes: Vec<_> = world.body_shapes(0).collect();
+        let shapes: Vec<_> = world.body_shapes(BodyId::scene(0)).unwrap().collect();
         assert_eq!(shapes.len(), 2);
-        let body = world.body(0);
+        let body = world.body(BodyId::scene(0)).unwrap();
         for view in shapes {
             let (center, rotation) = match view.shape {
                 Shape::Circle(_) => (inst.circles[0].center, inst.circles[0].rotation),
@@ -764,12 +769,14 @@ mod tests {
         let scene = tumble_scene::builtin::build("falling_circles").unwrap();
         let mut world = crate::sim::build_world(&scene).unwrap();
         let n = world.body_count();
-        let circle = (0..n)
-            .rev()
-            .find(|&i| matches!(world.shape(i), Shape::Circle(_)))
-            .unwrap();
-        let at = world.body(circle).position;
-        world.destroy_body(world.body_id(circle).unwrap()).unwrap();
+        let circle = world
+            .shapes()
+            .filter(|v| matches!(v.shape, Shape::Circle(_)))
+            .last()
+            .unwrap()
+            .body;
+        let at = world.body(circle).unwrap().position;
+        world.destroy_body(circle).unwrap();
         let mut inst = Instances::default();
         inst.add_bodies(&world, Coloring::Id, 0.0);
         assert_eq!(inst.circles.len() + inst.polygons.len(), n - 1);
@@ -780,8 +787,9 @@ mod tests {
         let camera = Camera::new(Vec2::ZERO, 20.0, Vec2::new(800.0, 600.0));
         inst.add_debug(&world, &debug, &camera);
         // A box (4 lines, 8 vertices) per live shape, axes (2 lines) per moving body.
-        let moving = (0..n)
-            .filter(|&i| world.is_body(i) && world.body(i).kind != BodyKind::Static)
+        let moving = world
+            .bodies()
+            .filter(|(_, b)| b.kind != BodyKind::Static)
             .count();
         assert_eq!(inst.lines.len(), 8 * (n - 1) + 4 * moving);
     }
@@ -800,8 +808,8 @@ mod tests {
     #[test]
     fn a_sleeping_body_is_drawn_faded() {
         let (awake, asleep_world) = (sleep_scene(true), sleep_scene(false));
-        assert!(awake.is_awake(0));
-        assert!(!asleep_world.is_awake(0));
+        assert!(awake.is_awake(BodyId::scene(0)).unwrap());
+        assert!(!asleep_world.is_awake(BodyId::scene(0)).unwrap());
         let color = |world: &World| {
             let mut inst = Instances::default();
             inst.add_bodies(world, Coloring::Id, 0.0);
@@ -838,7 +846,10 @@ mod tests {
         scene.gravity = [0.0, 0.0];
         let mut world = crate::sim::build_world(&scene).unwrap();
         world.step(scene.dt, scene.substeps);
-        let (a, b) = (world.island_of(0), world.island_of(1));
+        let (a, b) = (
+            world.island_of(BodyId::scene(0)).unwrap(),
+            world.island_of(BodyId::scene(1)).unwrap(),
+        );
         let (Some(a), Some(b)) = (a, b) else {
             panic!("dynamic bodies without islands: {a:?} {b:?}");
         };

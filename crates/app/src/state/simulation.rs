@@ -155,11 +155,12 @@ impl Simulation {
             Key::B => self.sim.drop_box(point).map(|_| ()),
             Key::N => self.sim.drop_ball(point).map(|_| ()),
             _ => {
-                let on_static = self
-                    .sim
-                    .world
-                    .body_at(point)
-                    .is_some_and(|i| self.sim.world.body(i).kind == BodyKind::Static);
+                let on_static = self.sim.world.body_at(point).is_some_and(|i| {
+                    self.sim
+                        .world
+                        .body(i)
+                        .is_ok_and(|b| b.kind == BodyKind::Static)
+                });
                 if on_static {
                     shared.toast("Static bodies stay (X and Delete remove moving ones)");
                 }

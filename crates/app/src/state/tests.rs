@@ -184,10 +184,12 @@ fn pointer_over_a_panel_does_not_grab_bodies_but_releases_always_arrive() {
     let Some(View { sim, camera, .. }) = m.view() else {
         panic!("no view");
     };
-    let body = (0..sim.world.body_count())
-        .find(|&i| sim.world.body(i).kind == tumble_physics::BodyKind::Dynamic)
+    let (body, view) = sim
+        .world
+        .bodies()
+        .find(|(_, b)| b.kind == tumble_physics::BodyKind::Dynamic)
         .unwrap();
-    let at = camera.world_to_screen(sim.world.body(body).position);
+    let at = camera.world_to_screen(view.position);
     let down = InputEvent::Button {
         button: Button::Left,
         pressed: true,
@@ -214,9 +216,9 @@ fn keys_drop_and_remove_bodies_at_the_pointer() {
     m.update(0.0, &mut sh); // frames the scene
     let (camera, bodies) = {
         let View { sim, camera, .. } = m.view().expect("a view");
-        (*camera, sim.world.live_body_count())
+        (*camera, sim.world.body_count())
     };
-    let live = |m: &StateMachine| m.sim().unwrap().world.live_body_count();
+    let live = |m: &StateMachine| m.sim().unwrap().world.body_count();
     let moved = |p: Vec2| InputEvent::PointerMoved {
         position: camera.world_to_screen(p),
         delta: Vec2::ZERO,
@@ -232,7 +234,7 @@ fn keys_drop_and_remove_bodies_at_the_pointer() {
     let world = &m.sim().unwrap().world;
     let dropped = world.body_at(above).expect("the box is under the pointer");
     assert!(matches!(
-        world.shape(dropped),
+        world.body_shapes(dropped).unwrap().next().unwrap().shape,
         tumble_physics::Shape::Polygon(_)
     ));
     // A held key's repeats drop nothing more.
@@ -249,14 +251,14 @@ fn keys_drop_and_remove_bodies_at_the_pointer() {
     let world = &m.sim().unwrap().world;
     let ball = world.body_at(above + Vec2::new(3.0, 0.0)).unwrap();
     assert!(matches!(
-        world.shape(ball),
+        world.body_shapes(ball).unwrap().next().unwrap().shape,
         tumble_physics::Shape::Circle(_)
     ));
     // X removes the box, Delete the ball.
     m.input(moved(above), NO_EGUI, &mut sh);
     m.input(press(Key::X), NO_EGUI, &mut sh);
     assert_eq!(live(&m), bodies + 1);
-    assert!(!m.sim().unwrap().world.is_body(dropped));
+    assert!(!m.sim().unwrap().world.contains_body(dropped));
     m.input(moved(above + Vec2::new(3.0, 0.0)), NO_EGUI, &mut sh);
     m.input(press(Key::Delete), NO_EGUI, &mut sh);
     assert_eq!(live(&m), bodies);
@@ -416,7 +418,12 @@ fn the_ray_tool_drags_out_a_ray_and_grabs_nothing() {
     assert_eq!(st.sim.ray, Some((from, to)));
     // Back to grabbing: a press grabs again.
     st.tool = Tool::Grab;
-    let body = st.sim.world.body(1).position;
+    let body = st
+        .sim
+        .world
+        .body(tumble_physics::BodyId::scene(1))
+        .unwrap()
+        .position;
     st.on_input(&button(true, body), &mut sh);
     assert!(st.sim.drag.is_some());
 }

@@ -340,7 +340,7 @@ fn create_joints(
     settings: &StepSettings,
     h: f32,
 ) -> Result<()> {
-    for (index, joint) in scene_joints(scene, settings)?.iter().enumerate() {
+    for (index, (joint, [body_a, body_b])) in scene_joints(scene, settings)?.iter().enumerate() {
         let what = format!(
             "scene {:?}, Box2D joint {index} ({})",
             scene.name,
@@ -352,16 +352,13 @@ fn create_joints(
                 &what,
             )
         };
-        let base = ok(
-            world.joint_base(ids[joint.body_a as usize], ids[joint.body_b as usize]),
-            &what,
-        )?
-        .with_local_frames(frame(&joint.local_a)?, frame(&joint.local_b)?)
-        .with_collide_connected(joint.collide_connected)
-        .with_constraint_tuning(ok(
-            ConstraintTuning::new(joint.hertz, joint.damping_ratio),
-            &what,
-        )?);
+        let base = ok(world.joint_base(ids[*body_a], ids[*body_b]), &what)?
+            .with_local_frames(frame(&joint.local_a)?, frame(&joint.local_b)?)
+            .with_collide_connected(joint.collide_connected)
+            .with_constraint_tuning(ok(
+                ConstraintTuning::new(joint.hertz, joint.damping_ratio),
+                &what,
+            )?);
         // Every flag is set, off or on: some of Box2D's defaults are on (the wheel's spring).
         let created = match &joint.kind {
             JointKind::Revolute(r) => {
@@ -614,7 +611,7 @@ impl Peer for Box2d {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use tumble_physics::{BodyDef, Limits, SceneDef, ShapeDef as TumbleShape, World};
+    use tumble_physics::{BodyDef, BodyId, Limits, SceneDef, ShapeDef as TumbleShape, World};
 
     /// Bodies that each touch only the static ground, 5 m apart: a box at rest, a box sliding
     /// at 3 m/s, a box tipped on a corner and a circle thrown spinning. (A box dropped on
@@ -679,7 +676,7 @@ mod tests {
             tumble.step(scene.dt, scene.substeps);
             box2d.step().unwrap();
             for i in 1..scene.bodies.len() {
-                let t = tumble.body(i);
+                let t = tumble.body(BodyId::scene(i)).unwrap();
                 let b = box2d.pose(i).unwrap();
                 let d = (t.position.x - b[0])
                     .abs()

@@ -504,7 +504,7 @@ fn create_joints(
     h: f32,
 ) -> Result<()> {
     use tumble_physics::JointKind;
-    for (index, joint) in scene_joints(scene, settings)?.iter().enumerate() {
+    for (index, (joint, [body_a, body_b])) in scene_joints(scene, settings)?.iter().enumerate() {
         let what = || {
             format!(
                 "scene {:?}, Rapier joint {index} ({})",
@@ -665,10 +665,7 @@ fn create_joints(
             }
             JointKind::Mouse(_) => bail!("{}: a scene has no mouse joints", what()),
         }
-        let (a, b) = (
-            handles[joint.body_a as usize],
-            handles[joint.body_b as usize],
-        );
+        let (a, b) = (handles[*body_a], handles[*body_b]);
         for j in built {
             world.insert_impulse_joint(a, b, j.build());
         }

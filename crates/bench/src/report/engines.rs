@@ -7,7 +7,7 @@
 //! speed cap (Box2D's `contactSpeed`, Rapier's `normalized_max_corrective_velocity`).
 
 use anyhow::{Context, Result};
-use tumble_physics::{SceneDef, StepSettings, World};
+use tumble_physics::{BodyId, SceneDef, StepSettings, World};
 
 use crate::peers::Peer;
 use crate::scenes;
@@ -309,12 +309,12 @@ impl Peer for TumbleSim {
 
     fn pose(&mut self, index: usize) -> Result<[f32; 3]> {
         // The frame's origin, as the peers report it (the centre of mass for one shape).
-        let b = self.world.body(index);
+        let b = self.world.body(BodyId::scene(index))?;
         Ok([b.origin.x, b.origin.y, b.angle])
     }
 
     fn velocity(&mut self, index: usize) -> Result<[f32; 3]> {
-        let b = self.world.body(index);
+        let b = self.world.body(BodyId::scene(index))?;
         Ok([b.linear_velocity.x, b.linear_velocity.y, b.angular_velocity])
     }
 

@@ -7,7 +7,7 @@ use std::f64::consts::PI;
 
 use anyhow::Result;
 use tumble_physics::joint::JointDef;
-use tumble_physics::{BodyDef, SceneDef, ShapeDef};
+use tumble_physics::{BodyDef, BodyId, SceneDef, ShapeDef};
 use tumble_scene::builtin::anchor_body;
 
 use super::cases::{Case, MetricDef, Probe};
@@ -106,7 +106,9 @@ fn pendulum() -> Case {
         BodyDef::new(ShapeDef::Circle { radius: r as f32 })
             .at((l * theta.sin()) as f32, (-l * theta.cos()) as f32),
     );
-    scene.joints.push(JointDef::hinge([0, 1], [0.0, 0.0]));
+    scene
+        .joints
+        .push(JointDef::hinge([0, 1].map(BodyId::scene), [0.0, 0.0]));
     // Compound pendulum: I about the hinge = m (r²/2 + L²); small swings have
     // ω0² = m g L / I; at amplitude θ0 the period is 4 K(sin(θ0/2)) / ω0.
     let omega0 = (G * l / (0.5 * r * r + l * l)).sqrt();
@@ -200,7 +202,9 @@ fn hinged_rod() -> Case {
         })
         .at((l / 2.0) as f32, 0.0),
     );
-    scene.joints.push(JointDef::hinge([0, 1], [0.0, 0.0]));
+    scene
+        .joints
+        .push(JointDef::hinge([0, 1].map(BodyId::scene), [0.0, 0.0]));
     // Energy: m g L/2 = ½ I ω², I = m (L² + t²)/12 + m (L/2)² about the hinge.
     let i_over_m = (l * l + t * t) / 12.0 + l * l / 4.0;
     let expected = (G * l / i_over_m).sqrt();
@@ -303,9 +307,10 @@ fn ball_and_chain(ratio: f64) -> Case {
             .at(0.0, y)
             .density(density),
         );
-        scene
-            .joints
-            .push(JointDef::hinge([prev, link], [0.0, y + hx]));
+        scene.joints.push(JointDef::hinge(
+            [prev, link].map(BodyId::scene),
+            [0.0, y + hx],
+        ));
         prev = link;
     }
     let bottom = top - LINKS as f32 * 2.0 * hx;
@@ -316,9 +321,10 @@ fn ball_and_chain(ratio: f64) -> Case {
         .at(0.0, bottom - ball_radius as f32)
         .density(ball_density as f32),
     );
-    scene
-        .joints
-        .push(JointDef::hinge([prev, ball], [0.0, bottom]));
+    scene.joints.push(JointDef::hinge(
+        [prev, ball].map(BodyId::scene),
+        [0.0, bottom],
+    ));
     let steps = 180;
     let key: &'static str = match ratio as u32 {
         10 => "ball_and_chain_10",
@@ -473,7 +479,10 @@ impl GapProbe {
                     anchor,
                     anchor_b: None,
                     ..
-                } => Some((*a, local(*a, *anchor), *b, local(*b, *anchor))),
+                } => {
+                    let (a, b) = (a.index as usize, b.index as usize);
+                    Some((a, local(a, *anchor), b, local(b, *anchor)))
+                }
                 _ => None,
             })
             .collect();

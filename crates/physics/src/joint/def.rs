@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use super::{Distance, Joint, JointKind, JointStep, Motor, Prismatic, Revolute, Weld, Wheel};
 use crate::error::SceneError;
+use crate::id::BodyId;
 use crate::math::{Rot, Transform};
 
 /// A spring on a joint's free direction.
@@ -81,8 +82,10 @@ fn correction() -> f32 {
 pub enum JointDef {
     /// A hinge at `anchor`.
     Revolute {
-        /// Body A and body B, by index.
-        bodies: [usize; 2],
+        /// Body A and body B (in a scene file, by their index in `bodies`).
+        #[serde(with = "crate::id::scene_bodies")]
+        #[cfg_attr(feature = "schema", schemars(with = "[u32; 2]"))]
+        bodies: [BodyId; 2],
         /// The hinge point (m, world, at the start).
         anchor: [f32; 2],
         /// Bounds of B's angle relative to A from the start, −0.99π ≤ lower ≤ upper ≤ 0.99π.
@@ -120,8 +123,10 @@ pub enum JointDef {
     },
     /// B slides along `axis` (fixed in A) without turning relative to A.
     Prismatic {
-        /// Body A and body B, by index.
-        bodies: [usize; 2],
+        /// Body A and body B (in a scene file, by their index in `bodies`).
+        #[serde(with = "crate::id::scene_bodies")]
+        #[cfg_attr(feature = "schema", schemars(with = "[u32; 2]"))]
+        bodies: [BodyId; 2],
         /// A point on the axis (m, world).
         anchor: [f32; 2],
         /// The direction of sliding (world, non-zero).
@@ -153,8 +158,10 @@ pub enum JointDef {
     },
     /// B slides along `axis` on a spring and turns freely (a wheel on its suspension).
     Wheel {
-        /// Body A (the chassis) and body B (the wheel), by index.
-        bodies: [usize; 2],
+        /// Body A (the chassis) and body B (the wheel) (in a scene file, by their index in `bodies`).
+        #[serde(with = "crate::id::scene_bodies")]
+        #[cfg_attr(feature = "schema", schemars(with = "[u32; 2]"))]
+        bodies: [BodyId; 2],
         /// The wheel's centre (m, world).
         anchor: [f32; 2],
         /// The suspension's direction (world, non-zero).
@@ -186,8 +193,10 @@ pub enum JointDef {
     },
     /// Keeps two anchors `length` apart.
     Distance {
-        /// Body A and body B, by index.
-        bodies: [usize; 2],
+        /// Body A and body B (in a scene file, by their index in `bodies`).
+        #[serde(with = "crate::id::scene_bodies")]
+        #[cfg_attr(feature = "schema", schemars(with = "[u32; 2]"))]
+        bodies: [BodyId; 2],
         /// The anchor on A and the anchor on B (m, world).
         anchors: [[f32; 2]; 2],
         /// Rest length (m; default: the anchors' distance at the start).
@@ -217,8 +226,10 @@ pub enum JointDef {
     },
     /// Glues B to A at `anchor`.
     Weld {
-        /// Body A and body B, by index.
-        bodies: [usize; 2],
+        /// Body A and body B (in a scene file, by their index in `bodies`).
+        #[serde(with = "crate::id::scene_bodies")]
+        #[cfg_attr(feature = "schema", schemars(with = "[u32; 2]"))]
+        bodies: [BodyId; 2],
         /// The weld point (m, world).
         anchor: [f32; 2],
         /// Linear stiffness (Hz, >= 0; 0 is rigid).
@@ -239,8 +250,10 @@ pub enum JointDef {
     },
     /// Drives B towards an offset pose in A's frame.
     Motor {
-        /// Body A and body B, by index.
-        bodies: [usize; 2],
+        /// Body A and body B (in a scene file, by their index in `bodies`).
+        #[serde(with = "crate::id::scene_bodies")]
+        #[cfg_attr(feature = "schema", schemars(with = "[u32; 2]"))]
+        bodies: [BodyId; 2],
         /// B's origin in A's frame (m; default: where B starts).
         #[serde(
             default,
@@ -270,8 +283,10 @@ pub enum JointDef {
     },
     /// A and B never touch; nothing else.
     Filter {
-        /// Body A and body B, by index.
-        bodies: [usize; 2],
+        /// Body A and body B (in a scene file, by their index in `bodies`).
+        #[serde(with = "crate::id::scene_bodies")]
+        #[cfg_attr(feature = "schema", schemars(with = "[u32; 2]"))]
+        bodies: [BodyId; 2],
     },
 }
 
@@ -288,7 +303,7 @@ pub struct JointFrame {
 impl JointDef {
     /// A plain hinge between `bodies` at `anchor` (world): no limit, motor or spring, the
     /// bodies kept apart.
-    pub fn hinge(bodies: [usize; 2], anchor: [f32; 2]) -> JointDef {
+    pub fn hinge(bodies: [BodyId; 2], anchor: [f32; 2]) -> JointDef {
         JointDef::Revolute {
             bodies,
             anchor,
@@ -301,7 +316,7 @@ impl JointDef {
     }
 
     /// Body A and body B.
-    pub fn bodies(&self) -> [usize; 2] {
+    pub fn bodies(&self) -> [BodyId; 2] {
         match self {
             JointDef::Revolute { bodies, .. }
             | JointDef::Prismatic { bodies, .. }
@@ -315,7 +330,7 @@ impl JointDef {
 
     /// Body A and body B, to change (a definition made for one set of bodies placed on
     /// another: a group of bodies and joints made again elsewhere in a world).
-    pub fn bodies_mut(&mut self) -> &mut [usize; 2] {
+    pub fn bodies_mut(&mut self) -> &mut [BodyId; 2] {
         match self {
             JointDef::Revolute { bodies, .. }
             | JointDef::Prismatic { bodies, .. }
@@ -345,7 +360,7 @@ impl JointDef {
     pub fn validate(
         &self,
         index: usize,
-        frames: &dyn Fn(usize) -> Option<JointFrame>,
+        frames: &dyn Fn(BodyId) -> Option<JointFrame>,
     ) -> Result<(), SceneError> {
         let name = self.name();
         let err = |field: &str, value: String, allowed: &str| SceneError::Joint {
@@ -361,7 +376,7 @@ impl JointDef {
                 let missing = if frames(a).is_none() { a } else { b };
                 return Err(err(
                     "bodies",
-                    format!("{:?} (no body {missing})", [a, b]),
+                    format!("{} (no body {})", indices([a, b]), describe(missing)),
                     "the indices of two bodies in `bodies`",
                 ));
             }
@@ -369,14 +384,14 @@ impl JointDef {
         if a == b {
             return Err(err(
                 "bodies",
-                format!("{:?}", [a, b]),
+                indices([a, b]),
                 "two different bodies (a joint between a body and itself does nothing)",
             ));
         }
         if !fa.dynamic && !fb.dynamic {
             return Err(err(
                 "bodies",
-                format!("{:?} (neither is dynamic)", [a, b]),
+                format!("{} (neither is dynamic)", indices([a, b])),
                 "at least one dynamic body: a joint moves nothing else",
             ));
         }
@@ -735,8 +750,8 @@ impl JointDef {
             ),
         };
         Joint {
-            body_a: ia as u32,
-            body_b: ib as u32,
+            body_a: ia.index,
+            body_b: ib.index,
             local_a,
             local_b,
             collide_connected,
@@ -745,5 +760,19 @@ impl JointDef {
             kind,
             step: JointStep::default(),
         }
+    }
+}
+
+/// Two bodies as a scene file names them: `[a, b]` by index.
+fn indices([a, b]: [BodyId; 2]) -> String {
+    format!("[{}, {}]", a.index, b.index)
+}
+
+/// A body as an error names it: its index, and its generation where it is not a scene's.
+fn describe(id: BodyId) -> String {
+    if id.generation == 0 {
+        id.index.to_string()
+    } else {
+        id.to_string()
     }
 }

@@ -70,10 +70,11 @@ impl JointKind {
 /// One joint as the world keeps it.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Joint {
-    /// Body A's slot (unused by a mouse joint, which names body B twice).
-    pub body_a: u32,
+    /// Body A's slot (unused by a mouse joint, which names body B twice); read through
+    /// [`crate::World::joint_bodies`].
+    pub(crate) body_a: u32,
     /// Body B's slot.
-    pub body_b: u32,
+    pub(crate) body_b: u32,
     /// The joint frame in body A's frame: the anchor, and the axes (x is a slider's axis).
     pub local_a: Transform,
     /// The joint frame in body B's frame; at creation both frames coincide in the world.

@@ -17,12 +17,6 @@ use crate::solver::contact_solver::BodyState;
 use crate::solver::{BodyMotion, SolverBody};
 
 impl World {
-    /// Adds a body, checked as a scene body would be, and returns its id. Kept under its
-    /// old name; see [`World::create_body`].
-    pub fn add_body(&mut self, def: &BodyDef) -> Result<usize, SceneError> {
-        self.create_body(def).map(|id| id.index as usize)
-    }
-
     /// Creates a body (between steps), checked as a scene body would be (the error names
     /// the slot it would have taken), and returns its id. It takes the lowest free slot.
     pub fn create_body(&mut self, def: &BodyDef) -> Result<BodyId, SceneError> {
@@ -404,26 +398,9 @@ impl World {
         }
     }
 
-    /// Sets a body's velocities (e.g. a mouse drag) by slot; ignored for static bodies and
-    /// free slots. Wakes the body.
-    pub fn set_velocity(&mut self, index: usize, linear: Vec2, angular: f32) {
-        if !self.is_body(index)
-            || self.sims[index].kind == BodyKind::Static
-            || !linear.is_finite()
-            || !angular.is_finite()
-        {
-            return;
-        }
-        self.wake_body(index as u32);
-        let s = &mut self.states[index];
-        s.v = linear;
-        if self.sims[index].inv_inertia > 0.0 || self.sims[index].kind == BodyKind::Kinematic {
-            s.w = angular;
-        }
-    }
-
-    /// Sets a body's velocities by id (see [`World::set_velocity`]).
-    pub fn set_body_velocity(
+    /// Sets a body's velocities (a mouse drag, a jump) and wakes it. A static body keeps
+    /// still (Box2D's rule); a body that cannot turn keeps its angular velocity at 0.
+    pub fn set_velocity(
         &mut self,
         id: BodyId,
         linear: Vec2,
@@ -436,8 +413,90 @@ impl World {
                 why: "velocities must be finite".into(),
             });
         }
-        self.set_velocity(i, linear, angular);
+        if self.sims[i].kind == BodyKind::Static {
+            return Ok(());
+        }
+        self.wake_body(i as u32);
+        let s = &mut self.states[i];
+        s.v = linear;
+        if self.sims[i].inv_inertia > 0.0 || self.sims[i].kind == BodyKind::Kinematic {
+            s.w = angular;
+        }
         Ok(())
+    }
+
+    /// Applies an impulse (N·s) at a world point: the body's velocities change at once (a
+    /// kick, a mouse spring). Only dynamic bodies respond; with `wake` false a sleeping body
+    /// is left as it is (Box2D's `b2Body_ApplyLinearImpulse`).
+    pub fn apply_linear_impulse(
+        &mut self,
+        id: BodyId,
+        impulse: Vec2,
+        point: Vec2,
+        wake: bool,
+    ) -> Result<(), WorldError> {
+        let i = self.slot(id)?;
+        finite("impulse", impulse)?;
+        finite("point", point)?;
+        if self.impulse_target(i, wake) {
+            let body = self.solver_bodies[i];
+            let r = point - self.sims[i].xf.p;
+            let s = &mut self.states[i];
+            s.v += impulse * body.inv_mass;
+            s.w += body.inv_inertia * crate::math::cross(r, impulse);
+        }
+        Ok(())
+    }
+
+    /// Applies an impulse (N·s) at the body's centre of mass: it changes the body's speed,
+    /// not its spin. See [`World::apply_linear_impulse`] for `wake`.
+    pub fn apply_linear_impulse_to_center(
+        &mut self,
+        id: BodyId,
+        impulse: Vec2,
+        wake: bool,
+    ) -> Result<(), WorldError> {
+        let i = self.slot(id)?;
+        finite("impulse", impulse)?;
+        if self.impulse_target(i, wake) {
+            let inv_mass = self.solver_bodies[i].inv_mass;
+            self.states[i].v += impulse * inv_mass;
+        }
+        Ok(())
+    }
+
+    /// Applies an angular impulse (N·m·s): it changes the body's spin at once. See
+    /// [`World::apply_linear_impulse`] for `wake`.
+    pub fn apply_angular_impulse(
+        &mut self,
+        id: BodyId,
+        impulse: f32,
+        wake: bool,
+    ) -> Result<(), WorldError> {
+        let i = self.slot(id)?;
+        if !impulse.is_finite() {
+            return Err(WorldError::Invalid {
+                what: format!("angular impulse {impulse}"),
+                why: "it must be finite".into(),
+            });
+        }
+        if self.impulse_target(i, wake) {
+            let inv_inertia = self.solver_bodies[i].inv_inertia;
+            self.states[i].w += inv_inertia * impulse;
+        }
+        Ok(())
+    }
+
+    /// Whether an impulse moves body `i`: it is dynamic and awake, or woken now.
+    fn impulse_target(&mut self, i: usize, wake: bool) -> bool {
+        if !self.solver_bodies[i].dynamic {
+            return false;
+        }
+        if wake {
+            // Also restarts its rest timer, as a touch does.
+            self.wake_body(i as u32);
+        }
+        self.awake[i]
     }
 
     /// Moves a body's frame to `position` and `angle` (between steps): it teleports, keeps
@@ -770,5 +829,17 @@ impl World {
                 .map(|(k, c)| (pair_key(c.shape_a, c.shape_b), k as u32))
                 .collect();
         }
+    }
+}
+
+/// `Ok` if both coordinates are finite, else the error that names the value.
+fn finite(what: &str, v: Vec2) -> Result<(), WorldError> {
+    if v.is_finite() {
+        Ok(())
+    } else {
+        Err(WorldError::Invalid {
+            what: format!("{what} {v:?}"),
+            why: "it must be finite".into(),
+        })
     }
 }

@@ -214,7 +214,8 @@ mod tests {
             .map(|_| {
                 w.step(DT, 4);
                 w.validate().unwrap();
-                w.body_shapes(b.index as usize)
+                w.body_shapes(b)
+                    .unwrap()
                     .map(|v| v.shape.aabb(v.transform).max.x)
                     .fold(f32::MIN, f32::max)
             })
@@ -284,10 +285,11 @@ mod tests {
         for _ in 0..steps {
             w.step(DT, 4);
             w.validate().unwrap();
-            centre = centre.max(w.body(b.index as usize).position.x);
+            centre = centre.max(w.body_view(b.index as usize).position.x);
         }
         let end = w
-            .body_shapes(b.index as usize)
+            .body_shapes(b)
+            .unwrap()
             .map(|v| v.shape.aabb(v.transform).max.x)
             .fold(f32::MIN, f32::max);
         (centre, end)
@@ -330,8 +332,8 @@ mod tests {
                 w.validate().unwrap();
                 // Through: its centre past the plank's.
                 let (x, plank_x) = (
-                    w.body(b.index as usize).position.x,
-                    w.body(plank.index as usize).position.x,
+                    w.body_view(b.index as usize).position.x,
+                    w.body_view(plank.index as usize).position.x,
                 );
                 if x > plank_x {
                     return false;
@@ -392,7 +394,7 @@ mod tests {
             let mut centre = f32::MIN;
             for _ in 0..60 {
                 w.step(DT, 4);
-                centre = centre.max(w.body(b.index as usize).position.x);
+                centre = centre.max(w.body_view(b.index as usize).position.x);
             }
             assert!(
                 centre > 15.0,

@@ -179,7 +179,7 @@ impl World {
             .iter()
             .filter(|id| self.body_slots.holds(id.index, id.generation))
             .map(|&id| {
-                let view = self.body(id.index as usize);
+                let view = self.body_view(id.index as usize);
                 BodyMove {
                     body: id,
                     origin: view.origin,
@@ -600,7 +600,7 @@ mod world_tests {
             for e in step(&mut w) {
                 seen.push((k, e));
             }
-            heights.push(w.body(ball.index as usize).position.y);
+            heights.push(w.body_view(ball.index as usize).position.y);
         }
         // Exactly when the world's own poses overlap the sensor (strictly: the ball's bottom
         // below the box's top, its top above the box's bottom).

@@ -29,8 +29,9 @@ impl World {
     /// Its rigid rows take the settings' `joint_hertz` and `joint_damping_ratio`.
     pub fn create_joint(&mut self, def: &JointDef) -> Result<JointId, WorldError> {
         let index = self.joint_slots.next_index() as usize;
-        let frames = |i: usize| {
-            self.body_slots.is_alive(i).then(|| JointFrame {
+        let frames = |id: BodyId| {
+            let i = id.index as usize;
+            self.contains_body(id).then(|| JointFrame {
                 frame: self.body_frame(i),
                 dynamic: self.sims[i].kind == BodyKind::Dynamic,
             })
@@ -38,8 +39,8 @@ impl World {
         def.validate(index, &frames)?;
         let [a, b] = def.bodies();
         let joint = def.build(
-            self.body_frame(a),
-            self.body_frame(b),
+            self.body_frame(a.index as usize),
+            self.body_frame(b.index as usize),
             self.settings.joint_hertz,
             self.settings.joint_damping_ratio,
         );
@@ -255,6 +256,15 @@ impl World {
         self.wake_body(a);
         self.wake_body(b);
         Ok(&mut self.joints[k].kind)
+    }
+
+    /// A joint's two bodies, A and B (a mouse joint names its dragged body twice).
+    pub fn joint_bodies(&self, id: JointId) -> Result<[BodyId; 2], WorldError> {
+        let j = &self.joints[self.joint_slot(id)?];
+        Ok([j.body_a, j.body_b].map(|b| BodyId {
+            index: b,
+            generation: self.body_slots.generation(b as usize),
+        }))
     }
 
     /// The force (N, on body B) and torque (N·m) the joint applied in the last step.

@@ -83,8 +83,8 @@ pub struct BodyView {
 pub struct ShapeView<'a> {
     /// Its id.
     pub id: ShapeId,
-    /// Its body's slot.
-    pub body: usize,
+    /// Its body.
+    pub body: BodyId,
     /// Its geometry, centred on its own frame.
     pub shape: &'a Shape,
     /// Its frame in the world.
@@ -101,13 +101,13 @@ pub struct ShapeView<'a> {
 #[derive(Clone, Copy, Debug)]
 pub struct ContactView<'a> {
     /// First body (the polygon's, when a polygon meets a circle).
-    pub body_a: usize,
+    pub body_a: BodyId,
     /// Second body.
-    pub body_b: usize,
+    pub body_b: BodyId,
     /// First shape.
-    pub shape_a: usize,
+    pub shape_a: ShapeId,
     /// Second shape.
-    pub shape_b: usize,
+    pub shape_b: ShapeId,
     /// The manifold, with last step's impulses.
     pub manifold: &'a Manifold,
     /// Each manifold point in the world: body A's centre now plus the point's anchor (as
@@ -518,8 +518,8 @@ impl World {
         for def in &scene.joints {
             let [a, b] = def.bodies();
             let joint = def.build(
-                world.body_frame(a),
-                world.body_frame(b),
+                world.body_frame(a.index as usize),
+                world.body_frame(b.index as usize),
                 world.settings.joint_hertz,
                 world.settings.joint_damping_ratio,
             );

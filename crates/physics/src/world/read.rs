@@ -1,5 +1,5 @@
-//! What the world tells about itself: counts, bodies, shapes and contacts as views, queries,
-//! energies and the state hash.
+//! What the world tells about itself: its bodies and shapes as views (by id), its contacts,
+//! counts, energies and the state hash. Nothing here changes the world.
 
 use glam::Vec2;
 
@@ -9,36 +9,40 @@ use crate::id::{BodyId, ShapeId};
 use crate::island::NO_ISLAND;
 use crate::profile::StepProfile;
 use crate::scene::BodyKind;
-use crate::shape::{Aabb, Shape};
 
+/// Bodies: how many, which, and each one's state.
 impl World {
-    /// Body slots (live bodies and free slots): valid indices are `0..body_count()` where
-    /// [`World::is_body`] holds. Without destroyed bodies, every slot is a body.
-    pub fn body_count(&self) -> usize {
-        self.sims.len()
-    }
-
     /// Live bodies.
-    pub fn live_body_count(&self) -> usize {
+    pub fn body_count(&self) -> usize {
         self.body_slots.live()
     }
 
-    /// Whether slot `index` holds a body.
-    pub fn is_body(&self, index: usize) -> bool {
-        self.body_slots.is_alive(index)
+    /// Body slots ever made, live or free: one past the largest `BodyId::index` in use.
+    pub(crate) fn body_slot_count(&self) -> usize {
+        self.sims.len()
+    }
+
+    /// Whether `id` names a live body of this world.
+    pub fn contains_body(&self, id: BodyId) -> bool {
+        self.body_slots.holds(id.index, id.generation)
     }
 
     /// The id of the body in slot `index`, if it holds one.
-    pub fn body_id(&self, index: usize) -> Option<BodyId> {
-        self.is_body(index).then(|| BodyId {
+    pub(crate) fn body_id(&self, index: usize) -> Option<BodyId> {
+        self.body_slots.is_alive(index).then(|| BodyId {
             index: index as u32,
             generation: self.body_slots.generation(index),
         })
     }
 
-    /// Every live body's id, in slot order.
+    /// Every live body's id, in slot order (a scene's bodies in the file's order).
     pub fn body_ids(&self) -> impl Iterator<Item = BodyId> + '_ {
         (0..self.sims.len()).filter_map(|i| self.body_id(i))
+    }
+
+    /// Every live body with its state, in slot order.
+    pub fn bodies(&self) -> impl Iterator<Item = (BodyId, BodyView)> + '_ {
+        (0..self.sims.len()).filter_map(|i| self.body_id(i).map(|id| (id, self.body_view(i))))
     }
 
     pub(super) fn slot(&self, id: BodyId) -> Result<usize, WorldError> {
@@ -57,25 +61,198 @@ impl World {
         }
     }
 
-    /// Contacts (pairs of overlapping fat boxes).
-    pub fn contact_count(&self) -> usize {
-        self.contacts.len()
+    /// A body's state.
+    pub fn body(&self, id: BodyId) -> Result<BodyView, WorldError> {
+        self.slot(id).map(|i| self.body_view(i))
     }
 
-    /// Islands, and of those the awake ones.
-    pub fn island_counts(&self) -> (usize, usize) {
-        (self.islands.count(), self.islands.awake_count())
+    /// The state of the body in slot `index` (a free slot reads as a static body at rest
+    /// where it was).
+    pub(crate) fn body_view(&self, index: usize) -> BodyView {
+        let sim = &self.sims[index];
+        let st = &self.states[index];
+        let c = self.records[index].local_center;
+        BodyView {
+            position: sim.xf.p,
+            origin: if c == Vec2::ZERO {
+                sim.xf.p
+            } else {
+                sim.xf.p - sim.xf.q.apply(c)
+            },
+            angle: sim.xf.q.angle(),
+            rotation: sim.xf.q,
+            linear_velocity: st.v,
+            angular_velocity: st.w,
+            kind: sim.kind,
+            awake: self.awake[index],
+            bullet: self.records[index].bullet,
+        }
     }
 
-    /// Body `index`'s island slot (`None` for static and kinematic bodies), for drawing.
-    pub fn island_of(&self, index: usize) -> Option<usize> {
-        let k = *self.islands.of_body.get(index)?;
-        (k != NO_ISLAND).then_some(k as usize)
+    /// Whether a body is awake (kinematic bodies always are, static bodies never).
+    pub fn is_awake(&self, id: BodyId) -> Result<bool, WorldError> {
+        self.slot(id).map(|i| self.awake[i])
+    }
+
+    /// Whether a body is a bullet (see [`World::set_bullet`]).
+    pub fn is_bullet(&self, id: BodyId) -> Result<bool, WorldError> {
+        self.slot(id).map(|i| self.records[i].bullet)
+    }
+
+    /// A body's mass (kg); zero for static and kinematic bodies.
+    pub fn mass(&self, id: BodyId) -> Result<f32, WorldError> {
+        self.slot(id).map(|i| self.slot_mass(i))
+    }
+
+    fn slot_mass(&self, index: usize) -> f32 {
+        let inv = self.solver_bodies[index].inv_mass;
+        if inv > 0.0 { 1.0 / inv } else { 0.0 }
+    }
+
+    /// A body's rotational inertia about its centre of mass (kg·m²; 0 for static, kinematic
+    /// and fixed-rotation bodies).
+    pub fn inertia(&self, id: BodyId) -> Result<f32, WorldError> {
+        self.slot(id).map(|i| self.slot_inertia(i))
+    }
+
+    fn slot_inertia(&self, index: usize) -> f32 {
+        let inv = self.solver_bodies[index].inv_inertia;
+        if inv > 0.0 { 1.0 / inv } else { 0.0 }
+    }
+
+    /// A body's centre of mass in its own frame.
+    pub fn local_center(&self, id: BodyId) -> Result<Vec2, WorldError> {
+        self.slot(id).map(|i| self.records[i].local_center)
+    }
+
+    /// A body's island (`None` for static and kinematic bodies): a number shared by the
+    /// bodies that touch or are jointed, directly or through others, for drawing islands.
+    pub fn island_of(&self, id: BodyId) -> Result<Option<usize>, WorldError> {
+        let i = self.slot(id)?;
+        let k = self.islands.of_body.get(i).copied().unwrap_or(NO_ISLAND);
+        Ok((k != NO_ISLAND).then_some(k as usize))
+    }
+
+    /// The body one of whose shapes contains the world point, if any (the last in shape
+    /// order, which a viewer draws on top): a point query through the broad phase
+    /// ([`World::overlap_point`]) that sees every shape.
+    pub fn body_at(&self, point: Vec2) -> Option<BodyId> {
+        let mut top: Option<ShapeRef> = None;
+        self.overlap_point(point, &QueryFilter::ALL, |r| {
+            if top.is_none_or(|t| r.shape.index > t.shape.index) {
+                top = Some(r);
+            }
+            true
+        });
+        top.map(|r| r.body)
     }
 
     /// Awake bodies (kinematic and awake dynamic ones).
     pub fn awake_body_count(&self) -> usize {
         self.awake.iter().filter(|a| **a).count()
+    }
+}
+
+/// Shapes: each one's geometry, pose and body.
+impl World {
+    /// Live shapes.
+    pub fn shape_count(&self) -> usize {
+        self.shape_slots.live()
+    }
+
+    /// Whether `id` names a live shape of this world.
+    pub fn contains_shape(&self, id: ShapeId) -> bool {
+        self.shape_slots.holds(id.index, id.generation)
+    }
+
+    /// A shape: its geometry, its pose in the world, its body.
+    pub fn shape(&self, id: ShapeId) -> Result<ShapeView<'_>, WorldError> {
+        self.shape_slot(id).map(|s| self.shape_view(s))
+    }
+
+    /// A body's shapes, each with its pose in the world, in the order they were made.
+    pub fn body_shapes(
+        &self,
+        id: BodyId,
+    ) -> Result<impl Iterator<Item = ShapeView<'_>> + '_, WorldError> {
+        let i = self.slot(id)?;
+        Ok(self
+            .shapes_of_body(i)
+            .map(move |s| self.shape_view(s as usize)))
+    }
+
+    pub(super) fn shape_view(&self, s: usize) -> ShapeView<'_> {
+        let r = &self.shape_records[s];
+        let b = r.body as usize;
+        let xf = self.sims[b].xf;
+        ShapeView {
+            id: ShapeId {
+                index: s as u32,
+                generation: self.shape_slots.generation(s),
+            },
+            body: BodyId {
+                index: r.body,
+                generation: self.body_slots.generation(b),
+            },
+            shape: &self.shapes[s],
+            transform: if r.offset {
+                xf.compose(r.from_center)
+            } else {
+                xf
+            },
+            part: r.part as usize,
+            sensor: r.sensor,
+            fat_aabb: self.fat_aabbs[s],
+        }
+    }
+
+    /// Every live shape, in slot order.
+    pub fn shapes(&self) -> impl Iterator<Item = ShapeView<'_>> + '_ {
+        (0..self.shapes.len())
+            .filter(|&s| self.shape_slots.is_alive(s))
+            .map(|s| self.shape_view(s))
+    }
+
+    /// The broad phase's tree, for debug drawing.
+    pub fn broad_phase(&self) -> &BroadPhase {
+        &self.broad_phase
+    }
+}
+
+/// Contacts, islands, counters and measures of the whole world.
+impl World {
+    /// Contacts (pairs of shapes whose fat boxes overlap, touching or not).
+    pub fn contact_count(&self) -> usize {
+        self.contacts.len()
+    }
+
+    /// Every contact, in the deterministic order the solver sees them.
+    pub fn contacts(&self) -> impl Iterator<Item = ContactView<'_>> {
+        self.contacts.iter().map(|c| {
+            let centre = self.sims[c.body_a as usize].xf.p;
+            let m = &c.manifold;
+            let body = |b: u32| BodyId {
+                index: b,
+                generation: self.body_slots.generation(b as usize),
+            };
+            let shape = |s: u32| ShapeId {
+                index: s,
+                generation: self.shape_slots.generation(s as usize),
+            };
+            ContactView {
+                body_a: body(c.body_a),
+                body_b: body(c.body_b),
+                shape_a: shape(c.shape_a),
+                shape_b: shape(c.shape_b),
+                manifold: m,
+                points: [centre + m.points[0].anchor_a, centre + m.points[1].anchor_a],
+            }
+        })
+    }
+
+    /// Islands, and of those the awake ones.
+    pub fn island_counts(&self) -> (usize, usize) {
+        (self.islands.count(), self.islands.awake_count())
     }
 
     /// Steps taken so far.
@@ -98,116 +275,6 @@ impl World {
         self.non_finite_bodies
     }
 
-    /// The state of the body in slot `index` (see [`World::is_body`]; a free slot reads as
-    /// a static body at rest where it was). [`World::get`] takes an id.
-    pub fn body(&self, index: usize) -> BodyView {
-        let sim = &self.sims[index];
-        let st = &self.states[index];
-        let c = self.records[index].local_center;
-        BodyView {
-            position: sim.xf.p,
-            origin: if c == Vec2::ZERO {
-                sim.xf.p
-            } else {
-                sim.xf.p - sim.xf.q.apply(c)
-            },
-            angle: sim.xf.q.angle(),
-            rotation: sim.xf.q,
-            linear_velocity: st.v,
-            angular_velocity: st.w,
-            kind: sim.kind,
-            awake: self.awake[index],
-            bullet: self.records[index].bullet,
-        }
-    }
-
-    /// Whether the body in slot `index` is a bullet (a cheap read of [`BodyView::bullet`]).
-    pub fn is_bullet(&self, index: usize) -> bool {
-        self.records[index].bullet
-    }
-
-    /// A body's state by id, or why not.
-    pub fn get(&self, id: BodyId) -> Result<BodyView, WorldError> {
-        self.slot(id).map(|i| self.body(i))
-    }
-
-    /// The first shape of the body in slot `index`, in its own frame (see
-    /// [`World::body_shapes`] for every shape and where it sits).
-    pub fn shape(&self, index: usize) -> &Shape {
-        &self.shapes[self.records[index].first_shape as usize]
-    }
-
-    /// The shapes of the body in slot `index`, each with its pose in the world.
-    pub fn body_shapes(&self, index: usize) -> impl Iterator<Item = ShapeView<'_>> + '_ {
-        self.shapes_of_body(index)
-            .map(move |s| self.shape_view(s as usize))
-    }
-
-    pub(super) fn shape_view(&self, s: usize) -> ShapeView<'_> {
-        let r = &self.shape_records[s];
-        let xf = self.sims[r.body as usize].xf;
-        ShapeView {
-            id: ShapeId {
-                index: s as u32,
-                generation: self.shape_slots.generation(s),
-            },
-            body: r.body as usize,
-            shape: &self.shapes[s],
-            transform: if r.offset {
-                xf.compose(r.from_center)
-            } else {
-                xf
-            },
-            part: r.part as usize,
-            sensor: r.sensor,
-            fat_aabb: self.fat_aabbs[s],
-        }
-    }
-
-    /// Every live shape, in slot order.
-    pub fn shapes(&self) -> impl Iterator<Item = ShapeView<'_>> + '_ {
-        (0..self.shapes.len())
-            .filter(|&s| self.shape_slots.is_alive(s))
-            .map(|s| self.shape_view(s))
-    }
-
-    /// The fat bounding box of the first shape of body `index`, as the broad phase sees it.
-    pub fn fat_aabb(&self, index: usize) -> Aabb {
-        self.fat_aabbs[self.records[index].first_shape as usize]
-    }
-
-    /// The broad phase's tree, for debug drawing.
-    pub fn broad_phase(&self) -> &BroadPhase {
-        &self.broad_phase
-    }
-
-    /// Every contact, in the deterministic order the solver sees them.
-    pub fn contacts(&self) -> impl Iterator<Item = ContactView<'_>> {
-        self.contacts.iter().map(|c| {
-            let centre = self.sims[c.body_a as usize].xf.p;
-            let m = &c.manifold;
-            ContactView {
-                body_a: c.body_a as usize,
-                body_b: c.body_b as usize,
-                shape_a: c.shape_a as usize,
-                shape_b: c.shape_b as usize,
-                manifold: m,
-                points: [centre + m.points[0].anchor_a, centre + m.points[1].anchor_a],
-            }
-        })
-    }
-
-    /// A body's mass (kg) by slot; zero for static and kinematic bodies.
-    pub fn mass(&self, index: usize) -> f32 {
-        let inv = self.solver_bodies[index].inv_mass;
-        if inv > 0.0 { 1.0 / inv } else { 0.0 }
-    }
-
-    /// A body's centre of mass in its own frame.
-    pub fn local_center(&self, index: usize) -> Vec2 {
-        self.records[index].local_center
-    }
-
     /// Whether every body's pose and velocities are finite numbers now. The step's
     /// numerical guard keeps them so (it stops a body that turns non-finite), so on its own
     /// this cannot fail after a step: checks of a run require
@@ -225,52 +292,15 @@ impl World {
     /// Kinetic energy of the dynamic bodies, translational and rotational (J), summed in f64:
     /// what the energy checks of the tests, the report and the viewer measure.
     pub fn kinetic_energy(&self) -> f64 {
-        (0..self.body_count())
+        (0..self.body_slot_count())
             .filter(|&i| self.sims[i].kind == BodyKind::Dynamic)
             .map(|i| {
                 let st = &self.states[i];
-                let linear = 0.5 * f64::from(self.mass(i)) * f64::from(st.v.length_squared());
-                linear + 0.5 * f64::from(self.inertia(i)) * f64::from(st.w).powi(2)
+                let linear = 0.5 * f64::from(self.slot_mass(i)) * f64::from(st.v.length_squared());
+                linear + 0.5 * f64::from(self.slot_inertia(i)) * f64::from(st.w).powi(2)
             })
             .sum()
     }
-
-    /// A body's rotational inertia about its centre of mass (kg·m²; 0 for static, kinematic
-    /// and fixed-rotation bodies).
-    pub fn inertia(&self, index: usize) -> f32 {
-        let inv = self.solver_bodies[index].inv_inertia;
-        if inv > 0.0 { 1.0 / inv } else { 0.0 }
-    }
-
-    /// Applies an impulse (N·s) at a world point to a dynamic body: its velocities change at
-    /// once (a mouse spring, an explosion), and it wakes. Ignored for other bodies and
-    /// non-finite input.
-    pub fn apply_linear_impulse(&mut self, index: usize, impulse: Vec2, point: Vec2) {
-        let body = self.solver_bodies[index];
-        if !body.dynamic || !impulse.is_finite() || !point.is_finite() {
-            return;
-        }
-        self.wake_body(index as u32);
-        let r = point - self.sims[index].xf.p;
-        let s = &mut self.states[index];
-        s.v += impulse * body.inv_mass;
-        s.w += body.inv_inertia * crate::math::cross(r, impulse);
-    }
-
-    /// The slot of a body one of whose shapes contains the world point, if any (the last in
-    /// shape order, which a viewer draws on top): a point query through the broad phase
-    /// ([`World::overlap_point`]) that sees every shape.
-    pub fn body_at(&self, point: Vec2) -> Option<usize> {
-        let mut top: Option<ShapeRef> = None;
-        self.overlap_point(point, &QueryFilter::ALL, |r| {
-            if top.is_none_or(|t| r.shape.index > t.shape.index) {
-                top = Some(r);
-            }
-            true
-        });
-        top.map(|r| r.body.index as usize)
-    }
-
     /// `(contact index, graph colour)` for every touching contact of the last step, where the
     /// index is a position in [`World::contacts`] and colour 23 is the overflow; for debug
     /// drawing of the constraint graph.

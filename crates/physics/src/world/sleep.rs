@@ -309,9 +309,4 @@ impl World {
         }
         true
     }
-
-    /// Whether body `index` is awake.
-    pub fn is_awake(&self, index: usize) -> bool {
-        self.awake[index]
-    }
 }

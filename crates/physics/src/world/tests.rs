@@ -4,7 +4,7 @@ use crate::scene::{BodyDef, ShapeDef};
 
 fn ball_on_ground() -> World {
     let mut w = World::new(StepSettings::default());
-    w.add_body(
+    w.create_body(
         &BodyDef::new(ShapeDef::Box {
             half_extents: [5.0, 0.5],
             radius: 0.0,
@@ -12,7 +12,7 @@ fn ball_on_ground() -> World {
         .kind(BodyKind::Static),
     )
     .unwrap();
-    w.add_body(&BodyDef::new(ShapeDef::Circle { radius: 0.5 }).at(0.0, 1.0))
+    w.create_body(&BodyDef::new(ShapeDef::Circle { radius: 0.5 }).at(0.0, 1.0))
         .unwrap();
     w
 }
@@ -20,7 +20,8 @@ fn ball_on_ground() -> World {
 #[test]
 fn kinetic_energy_is_half_m_v_squared_plus_half_i_w_squared_of_dynamic_bodies() {
     let mut w = ball_on_ground();
-    w.set_velocity(1, Vec2::new(3.0, 4.0), 2.0);
+    w.set_velocity(BodyId::scene(1), Vec2::new(3.0, 4.0), 2.0)
+        .unwrap();
     // Disc of radius 0.5, density 1: m = π/4, I = m r²/2 = π/32; the static ground counts
     // nothing. 1e-6 relative: f32 mass and inertia summed in f64.
     let m = std::f64::consts::PI / 4.0;
@@ -47,7 +48,7 @@ fn is_finite_sees_one_non_finite_velocity() {
 /// One ball in the air, alone: nothing it touches can carry a bad number back to it.
 fn lone_ball() -> World {
     let mut w = World::new(StepSettings::default());
-    w.add_body(&BodyDef::new(ShapeDef::Circle { radius: 0.5 }).at(0.0, 10.0))
+    w.create_body(&BodyDef::new(ShapeDef::Circle { radius: 0.5 }).at(0.0, 10.0))
         .unwrap();
     w
 }
@@ -62,11 +63,11 @@ fn the_guard_counts_every_body_it_stops_and_snapshots_keep_the_count() {
     // set_velocity refuses non-finite input, so the state is written directly: what a
     // broken upstream (a bad solve, a bad mass) would leave.
     w.states[0].v = Vec2::new(f32::NAN, 1.0);
-    let before = w.body(0).position;
+    let before = w.body_view(0).position;
     w.step(1.0 / 60.0, 4);
     // The guard hid it: the state is finite again, the body kept its last finite pose.
     assert!(w.is_finite());
-    assert_eq!(w.body(0).position, before);
+    assert_eq!(w.body_view(0).position, before);
     assert_eq!(w.profile().non_finite, 1);
     assert_eq!(w.non_finite_bodies(), 1);
     // Later healthy steps forget it in the profile but not in the total.
@@ -205,7 +206,7 @@ fn a_body_whose_mass_or_inertia_f32_cannot_invert_is_refused() {
     let mut w = ball_on_ground();
     let circle = |r: f32| BodyDef::new(ShapeDef::Circle { radius: r });
     // Radius 1e-20 m: mass π·1e-40 kg is subnormal, its inverse infinite.
-    let e = w.add_body(&circle(1e-20)).unwrap_err().to_string();
+    let e = w.create_body(&circle(1e-20)).unwrap_err().to_string();
     for word in [
         "body 2",
         "`density`",
@@ -217,26 +218,29 @@ fn a_body_whose_mass_or_inertia_f32_cannot_invert_is_refused() {
     }
     // A subnormal density: the same.
     let e = w
-        .add_body(&circle(1.0).density(1e-40))
+        .create_body(&circle(1.0).density(1e-40))
         .unwrap_err()
         .to_string();
     assert!(e.contains("`density`") && e.contains("mass"), "{e}");
     // A mass too large for f32.
     let e = w
-        .add_body(&circle(1000.0).density(1e35))
+        .create_body(&circle(1000.0).density(1e35))
         .unwrap_err()
         .to_string();
     assert!(e.contains("lower the density"), "{e}");
     // Radius 1e-10 m: the mass (3e-20 kg) is fine, the inertia (1.6e-40) underflows.
-    let e = w.add_body(&circle(1e-10)).unwrap_err().to_string();
+    let e = w.create_body(&circle(1e-10)).unwrap_err().to_string();
     for word in ["body 2", "`shape`", "rotational inertia", "fixed_rotation"] {
         assert!(e.contains(word), "{e} lacks {word}");
     }
     // A body that cannot rotate needs no inverse inertia, and one refused body leaves no
     // trace: ids continue from 2.
-    assert_eq!(w.add_body(&circle(1e-10).fixed_rotation(true)), Ok(2));
+    assert_eq!(
+        w.create_body(&circle(1e-10).fixed_rotation(true)),
+        Ok(BodyId::scene(2))
+    );
     // Static bodies have no mass to invert.
-    assert!(w.add_body(&circle(1e-20).kind(BodyKind::Static)).is_ok());
+    assert!(w.create_body(&circle(1e-20).kind(BodyKind::Static)).is_ok());
     // From a scene, the index is the body's place in it.
     let mut scene = SceneDef::new("tiny");
     scene.push(circle(1.0));
@@ -251,24 +255,31 @@ fn a_body_whose_mass_or_inertia_f32_cannot_invert_is_refused() {
 #[test]
 fn impulse_changes_velocity_by_inverse_mass() {
     let mut w = ball_on_ground();
-    let m = w.mass(1);
+    let m = w.mass(BodyId::scene(1)).unwrap();
     // Disc of radius 0.5 at density 1: m = π/4.
     assert!((m - std::f32::consts::FRAC_PI_4).abs() < 1e-6);
-    w.apply_linear_impulse(1, Vec2::new(2.0, 0.0), Vec2::new(0.0, 1.5));
-    let b = w.body(1);
+    w.apply_linear_impulse(
+        BodyId::scene(1),
+        Vec2::new(2.0, 0.0),
+        Vec2::new(0.0, 1.5),
+        true,
+    )
+    .unwrap();
+    let b = w.body_view(1);
     assert!((b.linear_velocity.x - 2.0 / m).abs() < 1e-5);
     // Off-centre by +0.5 in y: torque r × J = 0.5·0 − 0.5·2 = −1; w = −1 / (m r²/2).
     assert!((b.angular_velocity + 1.0 / (0.5 * m * 0.25)).abs() < 1e-4);
     // Static bodies ignore it.
-    w.apply_linear_impulse(0, Vec2::new(5.0, 0.0), Vec2::ZERO);
-    assert_eq!(w.body(0).linear_velocity, Vec2::ZERO);
+    w.apply_linear_impulse(BodyId::scene(0), Vec2::new(5.0, 0.0), Vec2::ZERO, true)
+        .unwrap();
+    assert_eq!(w.body_view(0).linear_velocity, Vec2::ZERO);
 }
 
 #[test]
 fn body_at_picks_the_shape_under_the_point() {
     let w = ball_on_ground();
-    assert_eq!(w.body_at(Vec2::new(0.1, 1.2)), Some(1));
-    assert_eq!(w.body_at(Vec2::new(4.0, 0.0)), Some(0));
+    assert_eq!(w.body_at(Vec2::new(0.1, 1.2)), Some(BodyId::scene(1)));
+    assert_eq!(w.body_at(Vec2::new(4.0, 0.0)), Some(BodyId::scene(0)));
     assert_eq!(w.body_at(Vec2::new(0.0, 3.0)), None);
 }
 
@@ -286,7 +297,7 @@ fn thread_count_changes_between_steps_keep_the_result() {
             half_extents: [40.0, 0.5],
             radius: 0.0,
         });
-        w.add_body(&ground.kind(BodyKind::Static)).unwrap();
+        w.create_body(&ground.kind(BodyKind::Static)).unwrap();
         for row in 0..30 {
             for col in 0..(30 - row) {
                 let x = col as f32 + row as f32 * 0.5 - 15.0;
@@ -294,7 +305,7 @@ fn thread_count_changes_between_steps_keep_the_result() {
                     half_extents: [0.5, 0.5],
                     radius: 0.0,
                 };
-                w.add_body(&BodyDef::new(unit).at(x, 1.0 + row as f32))
+                w.create_body(&BodyDef::new(unit).at(x, 1.0 + row as f32))
                     .unwrap();
             }
         }
@@ -318,7 +329,7 @@ fn thread_count_changes_between_steps_keep_the_result() {
 /// An 8-row pyramid of boxes with 20 bouncy circles falling on it.
 fn pyramid_in_rain(settings: StepSettings) -> World {
     let mut w = World::new(settings);
-    w.add_body(
+    w.create_body(
         &BodyDef::new(ShapeDef::Box {
             half_extents: [20.0, 0.5],
             radius: 0.0,
@@ -329,7 +340,7 @@ fn pyramid_in_rain(settings: StepSettings) -> World {
     for row in 0..8 {
         for col in 0..(8 - row) {
             let x = col as f32 * 1.0 + row as f32 * 0.5 - 4.0;
-            w.add_body(
+            w.create_body(
                 &BodyDef::new(ShapeDef::Box {
                     half_extents: [0.5, 0.5],
                     radius: 0.0,
@@ -344,7 +355,7 @@ fn pyramid_in_rain(settings: StepSettings) -> World {
         let body = BodyDef::new(shape)
             .at(i as f32 * 0.4 - 4.0, 12.0)
             .restitution(0.3);
-        w.add_body(&body).unwrap();
+        w.create_body(&body).unwrap();
     }
     w
 }
@@ -401,7 +412,7 @@ fn simd_and_scalar_solvers_agree_bit_for_bit() {
 fn hinge_net(rows: bool) -> World {
     let mut w = World::new(StepSettings::default());
     let bar = w
-        .add_body(
+        .create_body(
             &BodyDef::new(ShapeDef::Box {
                 half_extents: [10.0, 0.1],
                 radius: 0.0,
@@ -421,17 +432,20 @@ fn hinge_net(rows: bool) -> World {
         for i in 0..n {
             let (x, y) = (k as f32, -(i as f32));
             let disc = w
-                .add_body(
+                .create_body(
                     &BodyDef::new(ShapeDef::Circle { radius: 0.4 })
                         .at(x, y)
                         .filter(filter)
                         .fixed_rotation(rows && (k * n + i) % 11 == 0),
                 )
                 .unwrap();
-            let above = if i == 0 { bar } else { disc - 1 };
+            // Bodies made in order take slots in order: the disc above is one slot back,
+            // the one to the left a column (n slots) back.
+            let back = |by: u32| BodyId::scene((disc.index - by) as usize);
+            let above = if i == 0 { bar } else { back(1) };
             let mut joints = vec![JointDef::hinge([above, disc], [x, y + 0.5])];
             if k > 0 {
-                joints.push(JointDef::hinge([disc - n, disc], [x - 0.5, y]));
+                joints.push(JointDef::hinge([back(n), disc], [x - 0.5, y]));
             }
             for mut def in joints {
                 made += 1;
@@ -478,7 +492,8 @@ fn hinge_net(rows: bool) -> World {
     // reached and the springs' angles wrap.
     for b in 1..w.body_count() {
         let spin = if b % 2 == 0 { 6.0 } else { -6.0 };
-        w.set_velocity(b, Vec2::new(2.0, 0.0), spin);
+        w.set_velocity(BodyId::scene(b), Vec2::new(2.0, 0.0), spin)
+            .unwrap();
     }
     w
 }
@@ -523,7 +538,7 @@ fn a_restored_snapshot_continues_bit_for_bit() {
         })
         .at(i as f32 * 0.5 - 3.0, 2.0 + i as f32 * 0.3)
         .angle(0.1 * i as f32);
-        w.add_body(&body).unwrap();
+        w.create_body(&body).unwrap();
     }
     for _ in 0..45 {
         w.step(1.0 / 60.0, 4);
@@ -597,9 +612,9 @@ fn flying_pair(b: [f32; 2]) -> World {
         gravity: Vec2::ZERO,
         ..StepSettings::default()
     });
-    w.add_body(&BodyDef::new(unit.clone()).velocity(30.0, 0.0))
+    w.create_body(&BodyDef::new(unit.clone()).velocity(30.0, 0.0))
         .unwrap();
-    w.add_body(&BodyDef::new(unit).at(b[0], b[1]).velocity(30.0, 0.0))
+    w.create_body(&BodyDef::new(unit).at(b[0], b[1]).velocity(30.0, 0.0))
         .unwrap();
     w
 }
@@ -625,7 +640,7 @@ fn fast_bodies_recycle_contacts_with_each_other_but_not_with_static_ground() {
     assert!(recycled >= 8, "{recycled} of 10 steps recycled");
 
     let mut w = World::new(StepSettings::default());
-    w.add_body(
+    w.create_body(
         &BodyDef::new(ShapeDef::Box {
             half_extents: [50.0, 0.5],
             radius: 0.0,
@@ -634,7 +649,7 @@ fn fast_bodies_recycle_contacts_with_each_other_but_not_with_static_ground() {
         .friction(0.0),
     )
     .unwrap();
-    w.add_body(
+    w.create_body(
         &BodyDef::new(ShapeDef::Box {
             half_extents: [0.02, 0.02],
             radius: 0.0,
@@ -671,11 +686,12 @@ fn a_fast_pair_that_starts_closing_is_not_recycled() {
         recycled >= 3,
         "only {recycled} of 5 steps recycled the contact"
     );
-    w.set_velocity(1, Vec2::new(24.0, 0.0), 0.0);
+    w.set_velocity(BodyId::scene(1), Vec2::new(24.0, 0.0), 0.0)
+        .unwrap();
     w.step(1.0 / 60.0, 4);
     assert_eq!((w.profile().recycled, w.profile().touching), (0, 1));
     for _ in 0..10 {
-        let gap = w.body(1).position.x - w.body(0).position.x - 1.0;
+        let gap = w.body_view(1).position.x - w.body_view(0).position.x - 1.0;
         // 1 cm: twice Box2D's linear slop, the overlap soft contacts leave.
         assert!(gap > -0.01, "B sank {} m into A", -gap);
         w.step(1.0 / 60.0, 4);
@@ -695,17 +711,20 @@ fn a_fast_pair_that_starts_closing_is_not_recycled() {
 fn a_manifold_that_dropped_a_point_is_recycled_only_below_that_points_reach() {
     let start = || {
         let mut w = flying_pair([1.022, 0.0]);
-        w.set_velocity(1, Vec2::new(30.0, 0.6), 0.0);
+        w.set_velocity(BodyId::scene(1), Vec2::new(30.0, 0.6), 0.0)
+            .unwrap();
         w.step(1.0 / 60.0, 4);
         assert_eq!((w.contact_count(), w.profile().touching), (1, 0));
-        w.set_velocity(1, Vec2::new(30.0, 0.06), 0.0);
+        w.set_velocity(BodyId::scene(1), Vec2::new(30.0, 0.06), 0.0)
+            .unwrap();
         w
     };
     let mut w = start();
     w.step(1.0 / 60.0, 4);
     assert!(w.sims.iter().all(|s| s.fast));
     assert_eq!((w.profile().recycled, w.profile().touching), (1, 0));
-    w.set_velocity(1, Vec2::new(29.7, 0.06), 0.0);
+    w.set_velocity(BodyId::scene(1), Vec2::new(29.7, 0.06), 0.0)
+        .unwrap();
     w.step(1.0 / 60.0, 4);
     assert_eq!((w.profile().recycled, w.profile().touching), (0, 1));
     // The reach is a distance: the same 0.06 m/s over a step four times as long closes
@@ -741,6 +760,6 @@ fn a_motor_given_a_bad_torque_at_run_time_does_not_panic() {
             w.step(1.0 / 60.0, 4);
         }
         assert_eq!(w.joint_count(), ids.len());
-        assert!((0..w.body_count()).all(|b| w.body(b).position.is_finite()));
+        assert!((0..w.body_count()).all(|b| w.body_view(b).position.is_finite()));
     }
 }

@@ -88,16 +88,17 @@ pub fn group(row: usize, column: usize) -> SceneDef {
 
 /// Makes `group`'s bodies in the world, each tagged `tag`, then its joints between them.
 pub fn spawn(world: &mut World, tag: u64, group: &SceneDef) -> Result<(), WorldError> {
-    let mut slots = Vec::with_capacity(group.bodies.len());
+    let mut ids = Vec::with_capacity(group.bodies.len());
     for body in &group.bodies {
         let id = world.create_body(body)?;
         world.set_user_data(id, tag)?;
-        slots.push(id.index as usize);
+        ids.push(id);
     }
     for joint in &group.joints {
         let mut joint = joint.clone();
+        // The group's joints name its bodies by their index in the group.
         for body in joint.bodies_mut() {
-            *body = slots[*body];
+            *body = ids[body.index as usize];
         }
         world.create_joint(&joint)?;
     }
@@ -164,7 +165,7 @@ mod tests {
         step(3, &mut world);
         step(DELAY, &mut world);
         // Two waves: columns 0 and 1, a group in each row.
-        assert_eq!(world.live_body_count(), 1 + 2 * ROWS * per_group);
+        assert_eq!(world.body_count(), 1 + 2 * ROWS * per_group);
         assert_eq!(world.joint_count(), 2 * ROWS * joints);
         for row in 0..ROWS {
             assert_eq!(of(&world, tag(row, 0)).len(), per_group);
@@ -174,19 +175,19 @@ mod tests {
         // script keeps no state: any step that is that wave's) puts a fresh group back at the
         // top, and leaves column 1 alone.
         for id in of(&world, tag(0, 0)) {
-            let body = world.get(id).unwrap();
+            let body = world.body(id).unwrap();
             world
                 .set_transform(id, body.origin - tumble_physics::Vec2::Y * 30.0, body.angle)
                 .unwrap();
         }
         let column_1 = of(&world, tag(2, 1));
         step(DELAY * COLUMNS as u64, &mut world);
-        assert_eq!(world.live_body_count(), 1 + 2 * ROWS * per_group);
+        assert_eq!(world.body_count(), 1 + 2 * ROWS * per_group);
         assert_eq!(world.joint_count(), 2 * ROWS * joints);
         assert_eq!(of(&world, tag(2, 1)), column_1);
         let mut heights: Vec<f32> = of(&world, tag(0, 0))
             .into_iter()
-            .map(|id| world.get(id).unwrap().origin.y)
+            .map(|id| world.body(id).unwrap().origin.y)
             .collect();
         let mut expected: Vec<f32> = group(0, 0).bodies.iter().map(|b| b.position[1]).collect();
         heights.sort_by(f32::total_cmp);

@@ -248,7 +248,7 @@ fn controls(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared, out: &m
     let world = &st.sim.world;
     let (islands, awake_islands) = world.island_counts();
     let rows = [
-        ("bodies", world.live_body_count().to_string()),
+        ("bodies", world.body_count().to_string()),
         ("awake bodies", world.awake_body_count().to_string()),
         ("islands", format!("{awake_islands} awake / {islands}")),
         (
