@@ -125,9 +125,10 @@ impl StepSettings {
     /// the state non-finite or pulls bodies together; zero relax passes silently drop
     /// friction (friction is solved in the relax pass); zero restitution passes drop every
     /// bounce; a speed cap that is not a finite number > 0 stops every body or caps nothing.
-    /// [`World::from_scene`] and [`World::from_snapshot`] call it; so should anything that
+    /// [`World::from_scene`](crate::World::from_scene) and
+    /// [`World::from_snapshot`](crate::World::from_snapshot) call it; so should anything that
     /// takes settings from outside (flags, sliders, files) before
-    /// [`World::settings_mut`].
+    /// [`World::settings_mut`](crate::World::settings_mut).
     pub fn validate(&self) -> Result<(), SettingsError> {
         let err = |field: &'static str, value: String, allowed: &str| SettingsError {
             field,
