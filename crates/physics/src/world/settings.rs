@@ -11,7 +11,7 @@ pub struct StepSettings {
     /// Gravity (m/s²).
     pub gravity: Vec2,
     /// Stiffness of contacts (Hz); clamped to an eighth of the substep rate, which keeps low
-    /// substep counts stable (Box2D HEAD, SOFT_STEP.md 2.3). Contacts against static bodies
+    /// substep counts stable (Box2D HEAD, docs/soft_step.md 2.3). Contacts against static bodies
     /// use twice it. Box2D's 30 Hz: at 60 Hz (with a quarter-rate clamp) the 100-row pyramid
     /// was measured to jitter at 0.4 m/s after 500 steps, against 0.13 m/s at 30 Hz.
     pub contact_hertz: f32,
