@@ -27,7 +27,7 @@ const OUT = process.env.TUMBLE_OUT;
 const CHROMIUM = process.env.CHROMIUM ?? '/usr/bin/chromium';
 
 // Headless chromium with software rendering: WebGL2 through SwiftShader; WebGPU through
-// SwiftShader's Vulkan (../shared/RECIPES.md). Nothing may reach the network.
+// SwiftShader's Vulkan (docs/web.md, "Headless chromium"). Nothing may reach the network.
 const BASE_FLAGS = [
   '--headless',
   '--no-sandbox',

@@ -198,8 +198,8 @@ fn restitution_bounce_reaches_e_squared_height() {
     eprintln!("bounce: apex {apex} m vs e^2 h = {expected} m");
     // 10%: the brief's bound. The scheme lands short of e^2 h, by about 4% (measured 1.198 m
     // for 1.25 m): restitution uses the approach speed stored at the start of the impact step
-    // (SOFT_STEP.md 2.10), before that step's gravity, which loses up to g dt = 0.17 m/s of the
-    // 10 m/s impact speed (up to 3.3% of the apex); the discrete lag g h t / 2 on the way down
+    // (docs/soft_step.md 2.10), before that step's gravity, which loses up to g dt = 0.17 m/s of
+    // the 10 m/s impact speed (up to 3.3% of the apex); the discrete lag g h t / 2 on the way down
     // and up costs about 1 cm each; sampling the apex only at step ends, under 1 mm. (Box2D v3
     // HEAD, same drop, measured here: 1.223 m. The likely reason: its manifolds keep points only
     // within 0.02 m, with no velocity-based margin, so its ball enters the ground within the

@@ -1,6 +1,6 @@
 //! A short soak: 2,000 bodies for 5,000 steps (83 s of simulated time) must stay finite and
 //! keep its memory bounded. The long version (`tumble-bench soak`: 20,000 bodies, 100,000
-//! steps) is for a person to run, not CI; its figures are in the README's reliability notes.
+//! steps) is for a person to run, not CI; its figures are in docs/architecture.md, Reliability.
 
 use tumble_physics::{Limits, World};
 use tumble_scene::builtin::soak_pile;

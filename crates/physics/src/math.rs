@@ -83,7 +83,7 @@ impl Rot {
         Rot { c, s }
     }
 
-    /// The angle in [-π, π] ([`atan2`]).
+    /// The angle in [-π, π] (this module's `atan2`).
     #[inline]
     pub fn angle(self) -> f32 {
         atan2(self.s, self.c)

@@ -320,8 +320,7 @@ fn end_position(text: &str) -> (usize, usize) {
     (line, 1 + last_line.chars().count())
 }
 
-const SCHEMA_HINT: &str =
-    "see \"Scene files\" in README.md for the fields, their types and defaults";
+const SCHEMA_HINT: &str = "see docs/scenes.md for the fields, their types and defaults";
 
 fn parse_ron(text: &str, origin: &str) -> Result<SceneDef, LoadError> {
     // The default options keep ron's recursion limit, so deep nesting is an error, not a crash.

@@ -16,8 +16,9 @@ use std::time::Instant;
 const USAGE_HEAD: &str = "usage: cargo xtask TASK [ARGS]
 
 tasks:
-  test    cargo fmt --check, cargo clippy -D warnings, cargo test, cargo package of the
-          physics library and its examples, the viewer's offscreen rendering test, the
+  test    cargo fmt --check, cargo clippy -D warnings, cargo doc of the physics library
+          with rustdoc's warnings as errors, cargo test, cargo package of the physics
+          library and its examples, the viewer's offscreen rendering test, the
           viewer in a real window under Xvfb, the web build in chromium, and the peer
           comparison tests: every check CI runs (installs the rustfmt and clippy
           components, the web build's tools and the Debian packages the steps need when
@@ -182,6 +183,17 @@ fn test_steps() -> Vec<Step> {
             ]),
         },
         Step {
+            // The library's documentation: every link resolves, every code block is valid
+            // rustdoc, nothing is left unexplained (rustdoc's warnings are errors here).
+            name: "doc",
+            debian_packages: &[],
+            components: &[],
+            action: Action::Check(
+                "RUSTDOCFLAGS=\"-D warnings\" cargo doc -p tumble-physics --no-deps -j2",
+                physics_docs,
+            ),
+        },
+        Step {
             // The viewer is tested in release below, with the build the window step runs:
             // building wgpu and egui in the dev profile too would cost CI minutes.
             name: "test",
@@ -246,6 +258,19 @@ fn test_steps() -> Vec<Step> {
             action: Action::Cargo(&["test", "-p", "tumble-bench", "--features", "peers", "-j2"]),
         },
     ]
+}
+
+/// Builds the physics library's documentation with rustdoc's warnings as errors (a broken
+/// intra-doc link, a bad code block, a private item linked from a public one).
+fn physics_docs(root: &Path) -> Result<(), String> {
+    let mut cmd = Command::new(cargo());
+    cmd.current_dir(root)
+        .args(["doc", "-p", "tumble-physics", "--no-deps", "-j2"])
+        .env("RUSTDOCFLAGS", "-D warnings");
+    run_status(
+        &mut cmd,
+        "RUSTDOCFLAGS=\"-D warnings\" cargo doc -p tumble-physics --no-deps -j2",
+    )
 }
 
 /// Runs each example of the physics library (`crates/physics/examples/*.rs`, in name order):

@@ -22,7 +22,7 @@ pub const WASM_BINDGEN_VERSION: &str = "0.2.130";
 pub const DEFAULT_PORT: u16 = 8080;
 
 /// The compiler flags of the threaded build: atomics and a shared, imported memory, plus the
-/// thread-local-storage symbols each worker's instance needs (../shared/RECIPES.md), and
+/// thread-local-storage symbols each worker's instance needs (docs/web.md, "Build flags"), and
 /// 128-bit SIMD (`simd128`), which the solver's 8-wide lanes use: without it they fall back
 /// to scalar code and a step takes about 3.5 times as long (docs/bench/web.md). Every browser
 /// with WebAssembly threads has SIMD. They apply to the wasm target only, so host tools and
@@ -45,7 +45,7 @@ pub const USAGE: &str =
           the wasm32 target and wasm-bindgen-cli when missing)
             --port P    serve on port P
             --release   also write a static bundle to target/web-bundle/ (host it
-                        anywhere that sends the same headers; README, \"The web build\")
+                        anywhere that sends the same headers; docs/web.md)
             --test      instead: the browser tests alone (the `web` step of `test`)";
 
 /// `cargo xtask web [--port P] [--release]`.

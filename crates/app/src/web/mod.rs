@@ -93,7 +93,7 @@ pub fn start() -> Result<(), JsValue> {
             "One thread: this build has no thread support.".to_string()
         } else {
             "One thread: this page is not cross-origin isolated (no SharedArrayBuffer), so the \
-             step cannot use Web Workers. Serve it with the COOP and COEP headers (README)."
+             step cannot use Web Workers. Serve it with the COOP and COEP headers (docs/web.md)."
                 .to_string()
         }
     });

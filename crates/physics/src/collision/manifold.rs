@@ -884,7 +884,7 @@ impl ChainJoints {
 /// one-sided, and a normal that belongs to a neighbouring segment is left to it, so a box
 /// sliding across the joint between two segments does not catch on it (Box2D's
 /// `b2CollideChainSegmentAndPolygon`, with the closest features found by
-/// [`segment_polygon_distance`] instead of GJK).
+/// `segment_polygon_distance` instead of GJK).
 pub fn collide_chain_segment_polygon(
     a: &ChainSegment,
     xf_a: Transform,

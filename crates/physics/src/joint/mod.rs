@@ -6,7 +6,7 @@
 //! whose centre of mass moves keeps its joints where they were put). Each step, `prepare`
 //! turns them into world-oriented frames relative to each centre of mass and the
 //! separation of the centres; the substeps then read only the bodies' substep deltas, so the
-//! current error follows without a transform (SOFT_STEP.md 2.5). Accumulated impulses carry
+//! current error follows without a transform (docs/soft_step.md 2.5). Accumulated impulses carry
 //! over from step to step (warm starting), as a contact's do.
 
 pub mod chain;

@@ -1,6 +1,6 @@
 //! Soft contact constraints: prepare, warm start, solve (with and without bias), relax with
 //! friction, restitution, store. The math is Box2D v3's Soft Step (`contact_solver.c`), as
-//! read in `shared/notes/SOFT_STEP.md` sections 2.4 to 2.11.
+//! read in `docs/soft_step.md` sections 2.4 to 2.11.
 
 use glam::Vec2;
 
@@ -79,7 +79,7 @@ pub struct ConstraintPoint {
     /// See `anchor_a`.
     pub anchor_b: Vec2,
     /// Separation minus the anchors' offset along the normal, so the current separation
-    /// follows from the bodies' substep deltas alone (SOFT_STEP.md 2.5).
+    /// follows from the bodies' substep deltas alone (docs/soft_step.md 2.5).
     pub base_separation: f32,
     /// Normal velocity before the solve, for restitution.
     pub relative_velocity: f32,
@@ -220,7 +220,7 @@ pub fn prepare_point(
     p.relative_velocity = prepared.relative_velocity;
 }
 
-/// What prepare computes for one contact point (SOFT_STEP.md 2.4).
+/// What prepare computes for one contact point (docs/soft_step.md 2.4).
 #[derive(Clone, Copy, Debug)]
 pub struct PointTerms {
     /// Separation minus the anchors' offset along the normal.
@@ -340,7 +340,7 @@ pub fn solve(
 }
 
 /// Restitution, once per step after the substeps: points that approached faster than the
-/// threshold and actually pushed get their rebound velocity `-e·vn` (SOFT_STEP.md 2.10).
+/// threshold and actually pushed get their rebound velocity `-e·vn` (docs/soft_step.md 2.10).
 pub fn apply_restitution(
     constraints: &mut [ContactConstraint],
     states: &BodyStates<'_>,
@@ -373,7 +373,7 @@ mod tests {
 
     #[test]
     fn softness_matches_box2d_defaults() {
-        // SOFT_STEP.md 2.3 table: 30 Hz, ζ 10, h = 1/240 gives biasRate 9.069/s,
+        // docs/soft_step.md 2.3 table: 30 Hz, ζ 10, h = 1/240 gives biasRate 9.069/s,
         // massScale 0.9423, impulseScale 0.0577 (4 significant figures there).
         let s = Softness::new(30.0, 10.0, 1.0 / 240.0);
         assert!((s.bias_rate - 9.069).abs() < 5e-3, "{}", s.bias_rate);

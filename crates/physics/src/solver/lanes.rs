@@ -5,7 +5,7 @@
 //!
 //! Why both agree: every operation is one IEEE-754 operation per lane (add, sub, mul, div,
 //! max, min, compare, blend, sign flip), the same in both, in the same order; no fused
-//! multiply-add is ever formed (SOFT_STEP.md 9.1: "never `mul_add`").
+//! multiply-add is ever formed (docs/soft_step.md 9.1: "never `mul_add`").
 #![allow(unsafe_code)]
 
 use std::ops::{Add, AddAssign, BitAnd, Div, Mul, Neg, Sub, SubAssign};

@@ -885,7 +885,7 @@ impl Solver {
 }
 
 /// Builds one constraint from its contact: copies what the substeps need and computes the
-/// effective masses and base separations (SOFT_STEP.md 2.4).
+/// effective masses and base separations (docs/soft_step.md 2.4).
 fn build_constraint(
     contact_index: u32,
     c: &ContactInput<'_>,

@@ -310,7 +310,7 @@ impl World {
 
     /// Which kernels solve the 8-lane colours: `"avx2"` (256-bit registers, chosen at run
     /// time where the CPU has AVX2), `"portable"` (`f32x8`, on x86-64 two SSE halves), or
-    /// `"scalar"` when [`StepSettings::simd`] is off. All give the same results bit for bit.
+    /// `"scalar"` when [`StepSettings::simd`](crate::StepSettings::simd) is off. All give the same results bit for bit.
     pub fn simd_kernel(&self) -> &'static str {
         if !self.settings.simd {
             "scalar"

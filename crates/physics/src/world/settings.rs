@@ -11,7 +11,7 @@ pub struct StepSettings {
     /// Gravity (m/s²).
     pub gravity: Vec2,
     /// Stiffness of contacts (Hz); clamped to an eighth of the substep rate, which keeps low
-    /// substep counts stable (Box2D HEAD, SOFT_STEP.md 2.3). Contacts against static bodies
+    /// substep counts stable (Box2D HEAD, docs/soft_step.md 2.3). Contacts against static bodies
     /// use twice it. Box2D's 30 Hz: at 60 Hz (with a quarter-rate clamp) the 100-row pyramid
     /// was measured to jitter at 0.4 m/s after 500 steps, against 0.13 m/s at 30 Hz.
     pub contact_hertz: f32,
@@ -125,9 +125,10 @@ impl StepSettings {
     /// the state non-finite or pulls bodies together; zero relax passes silently drop
     /// friction (friction is solved in the relax pass); zero restitution passes drop every
     /// bounce; a speed cap that is not a finite number > 0 stops every body or caps nothing.
-    /// [`World::from_scene`] and [`World::from_snapshot`] call it; so should anything that
+    /// [`World::from_scene`](crate::World::from_scene) and
+    /// [`World::from_snapshot`](crate::World::from_snapshot) call it; so should anything that
     /// takes settings from outside (flags, sliders, files) before
-    /// [`World::settings_mut`].
+    /// [`World::settings_mut`](crate::World::settings_mut).
     pub fn validate(&self) -> Result<(), SettingsError> {
         let err = |field: &'static str, value: String, allowed: &str| SettingsError {
             field,
