@@ -1,9 +1,8 @@
 //! Determinism across thread counts: the same scene stepped on 1, 2, 3 and 4 threads, and with
 //! the thread count changed mid-run, ends in bit-identical states.
 
-use tumble_physics::BodyId;
 use tumble_physics::{
-    BodyDef, BodyKind, Event, EventCursor, JointDef, PartDef, SceneDef, ShapeDef, StepSettings,
+    BodyDef, BodyId, BodyKind, Event, EventCursor, JointDef, PartDef, SceneDef, ShapeDef, StepSettings,
     WideThresholds, World,
 };
 use tumble_tests::{all_finite, world};
@@ -12,9 +11,8 @@ const STEPS: u32 = 240;
 
 /// Every body's state as raw bits: position x, y, rotation cos, sin, velocity x, y, angular.
 fn snapshot(w: &World) -> Vec<[u32; 7]> {
-    (0..w.body_count())
-        .map(|i| {
-            let b = w.body(BodyId::scene(i)).unwrap();
+    w.bodies()
+        .map(|(_, b)| {
             [
                 b.position.x.to_bits(),
                 b.position.y.to_bits(),

@@ -84,7 +84,7 @@ pub enum JointDef {
     Revolute {
         /// Body A and body B (in a scene file, by their index in `bodies`).
         #[serde(with = "crate::id::scene_bodies")]
-        #[cfg_attr(feature = "schema", schemars(with = "[u32; 2]"))]
+        #[cfg_attr(feature = "schema", schemars(with = "[usize; 2]"))]
         bodies: [BodyId; 2],
         /// The hinge point (m, world, at the start).
         anchor: [f32; 2],
@@ -125,7 +125,7 @@ pub enum JointDef {
     Prismatic {
         /// Body A and body B (in a scene file, by their index in `bodies`).
         #[serde(with = "crate::id::scene_bodies")]
-        #[cfg_attr(feature = "schema", schemars(with = "[u32; 2]"))]
+        #[cfg_attr(feature = "schema", schemars(with = "[usize; 2]"))]
         bodies: [BodyId; 2],
         /// A point on the axis (m, world).
         anchor: [f32; 2],
@@ -160,7 +160,7 @@ pub enum JointDef {
     Wheel {
         /// Body A (the chassis) and body B (the wheel) (in a scene file, by their index in `bodies`).
         #[serde(with = "crate::id::scene_bodies")]
-        #[cfg_attr(feature = "schema", schemars(with = "[u32; 2]"))]
+        #[cfg_attr(feature = "schema", schemars(with = "[usize; 2]"))]
         bodies: [BodyId; 2],
         /// The wheel's centre (m, world).
         anchor: [f32; 2],
@@ -195,7 +195,7 @@ pub enum JointDef {
     Distance {
         /// Body A and body B (in a scene file, by their index in `bodies`).
         #[serde(with = "crate::id::scene_bodies")]
-        #[cfg_attr(feature = "schema", schemars(with = "[u32; 2]"))]
+        #[cfg_attr(feature = "schema", schemars(with = "[usize; 2]"))]
         bodies: [BodyId; 2],
         /// The anchor on A and the anchor on B (m, world).
         anchors: [[f32; 2]; 2],
@@ -228,7 +228,7 @@ pub enum JointDef {
     Weld {
         /// Body A and body B (in a scene file, by their index in `bodies`).
         #[serde(with = "crate::id::scene_bodies")]
-        #[cfg_attr(feature = "schema", schemars(with = "[u32; 2]"))]
+        #[cfg_attr(feature = "schema", schemars(with = "[usize; 2]"))]
         bodies: [BodyId; 2],
         /// The weld point (m, world).
         anchor: [f32; 2],
@@ -252,7 +252,7 @@ pub enum JointDef {
     Motor {
         /// Body A and body B (in a scene file, by their index in `bodies`).
         #[serde(with = "crate::id::scene_bodies")]
-        #[cfg_attr(feature = "schema", schemars(with = "[u32; 2]"))]
+        #[cfg_attr(feature = "schema", schemars(with = "[usize; 2]"))]
         bodies: [BodyId; 2],
         /// B's origin in A's frame (m; default: where B starts).
         #[serde(
@@ -285,7 +285,7 @@ pub enum JointDef {
     Filter {
         /// Body A and body B (in a scene file, by their index in `bodies`).
         #[serde(with = "crate::id::scene_bodies")]
-        #[cfg_attr(feature = "schema", schemars(with = "[u32; 2]"))]
+        #[cfg_attr(feature = "schema", schemars(with = "[usize; 2]"))]
         bodies: [BodyId; 2],
     },
 }

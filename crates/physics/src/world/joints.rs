@@ -24,10 +24,14 @@ impl World {
         }
     }
 
-    /// Adds a joint between steps, defined as in a scene file (bodies by slot index, anchors
+    /// Adds a joint between steps, defined as in a scene file (bodies by id, anchors
     /// in world coordinates at the bodies' current poses), checked as a scene's would be.
     /// Its rigid rows take the settings' `joint_hertz` and `joint_damping_ratio`.
     pub fn create_joint(&mut self, def: &JointDef) -> Result<JointId, WorldError> {
+        // A stale or foreign id is named as such, before the definition's own checks.
+        for body in def.bodies() {
+            self.slot(body)?;
+        }
         let index = self.joint_slots.next_index() as usize;
         let frames = |id: BodyId| {
             let i = id.index as usize;

@@ -763,3 +763,136 @@ fn a_motor_given_a_bad_torque_at_run_time_does_not_panic() {
         assert!((0..w.body_count()).all(|b| w.body_view(b).position.is_finite()));
     }
 }
+
+/// Every call that names a body, shape or joint refuses a stale id with `NoBody`,
+/// `NoShape` or `NoJoint`, changes nothing, and never reaches the object that took the slot
+/// next (CONTRACT.md section 8: one handle per object).
+#[test]
+fn a_stale_id_is_refused_by_every_call_and_never_names_the_slots_next_holder() {
+    let mut w = ball_on_ground();
+    let ground = BodyId::scene(0);
+    let ball = BodyId::scene(1);
+    let joint = w
+        .create_joint(&JointDef::hinge([ground, ball], [0.0, 1.0]))
+        .unwrap();
+    let shape = w.body_shapes(ball).unwrap().next().unwrap().id;
+    w.destroy_joint(joint).unwrap();
+    w.destroy_body(ball).unwrap();
+    // The slot's next body: the stale id must not reach it.
+    let next = w
+        .create_body(&BodyDef::new(ShapeDef::Circle { radius: 0.25 }).at(2.0, 3.0))
+        .unwrap();
+    assert_eq!(next.index, ball.index);
+    assert_ne!(next, ball);
+    let next_joint = w
+        .create_joint(&JointDef::hinge([ground, next], [2.0, 3.0]))
+        .unwrap();
+    assert_eq!(next_joint.index, joint.index);
+    let next_shape = w.body_shapes(next).unwrap().next().unwrap().id;
+    assert_eq!(next_shape.index, shape.index);
+    w.step(1.0 / 60.0, 4);
+    let hash = w.state_hash();
+    let before = w.body(next).unwrap();
+
+    let no_body = Err(WorldError::NoBody(ball));
+    assert_eq!(w.body(ball).map(|_| ()), no_body);
+    assert_eq!(w.mass(ball).map(|_| ()), no_body);
+    assert_eq!(w.inertia(ball).map(|_| ()), no_body);
+    assert_eq!(w.local_center(ball).map(|_| ()), no_body);
+    assert_eq!(w.is_awake(ball).map(|_| ()), no_body);
+    assert_eq!(w.is_bullet(ball).map(|_| ()), no_body);
+    assert_eq!(w.island_of(ball).map(|_| ()), no_body);
+    assert_eq!(w.user_data(ball).map(|_| ()), no_body);
+    assert!(matches!(w.body_shapes(ball), Err(WorldError::NoBody(b)) if b == ball));
+    assert!(!w.contains_body(ball) && w.contains_body(next));
+    let (v, p) = (Vec2::new(1.0, 2.0), Vec2::new(2.0, 3.0));
+    assert_eq!(w.set_velocity(ball, v, 1.0), no_body);
+    assert_eq!(w.apply_linear_impulse(ball, v, p, true), no_body);
+    assert_eq!(w.apply_linear_impulse_to_center(ball, v, true), no_body);
+    assert_eq!(w.apply_angular_impulse(ball, 1.0, true), no_body);
+    assert_eq!(w.set_transform(ball, p, 1.0), no_body);
+    assert_eq!(w.set_target_transform(ball, p, 1.0, 1.0 / 60.0), no_body);
+    assert_eq!(w.set_kind(ball, BodyKind::Static), no_body);
+    assert_eq!(w.set_bullet(ball, true), no_body);
+    assert_eq!(w.set_user_data(ball, 7), no_body);
+    let part = crate::scene::PartDef::new(ShapeDef::Circle { radius: 0.1 });
+    assert_eq!(w.create_shape(ball, &part).map(|_| ()), no_body);
+    assert_eq!(
+        w.create_joint(&JointDef::hinge([ground, ball], [0.0, 1.0]))
+            .map(|_| ()),
+        no_body
+    );
+    assert_eq!(
+        w.create_mouse_joint(ball, p, 5.0, 0.7, 100.0).map(|_| ()),
+        no_body
+    );
+    assert_eq!(w.destroy_body(ball), no_body);
+    assert_eq!(w.destroy_bodies(&[next, ball]), no_body);
+
+    let no_shape = Err(WorldError::NoShape(shape));
+    assert_eq!(w.shape(shape).map(|_| ()), no_shape);
+    assert!(!w.contains_shape(shape) && w.contains_shape(next_shape));
+    assert_eq!(w.destroy_shape(shape), no_shape);
+
+    let no_joint = Err(WorldError::NoJoint(joint));
+    assert_eq!(w.joint(joint).map(|_| ()), no_joint);
+    assert_eq!(w.joint_bodies(joint).map(|_| ()), no_joint);
+    assert_eq!(w.joint_reaction(joint).map(|_| ()), no_joint);
+    assert_eq!(w.joint_anchors(joint).map(|_| ()), no_joint);
+    assert_eq!(w.joint_kind_mut(joint).map(|_| ()), no_joint);
+    assert_eq!(w.set_mouse_target(joint, p), no_joint);
+    assert_eq!(w.destroy_joint(joint), no_joint);
+
+    // Nothing changed: the slot's new holders are as they were.
+    assert_eq!(w.state_hash(), hash);
+    assert_eq!(w.body(next).unwrap(), before);
+    assert_eq!(w.body_count(), 2);
+    assert_eq!(w.joint_bodies(next_joint), Ok([ground, next]));
+    assert_eq!(w.shape(next_shape).unwrap().body, next);
+    w.validate().unwrap();
+}
+
+/// Box2D's impulse rule (`b2Body_ApplyLinearImpulse`): with `wake` a sleeping body wakes and
+/// takes the impulse; without, it is left as it is. Non-finite input is refused, unchanged.
+#[test]
+fn impulses_wake_only_when_asked_and_refuse_non_finite_input() {
+    let mut w = ball_on_ground();
+    let ball = BodyId::scene(1);
+    for _ in 0..240 {
+        w.step(1.0 / 60.0, 4);
+    }
+    assert_eq!(w.is_awake(ball), Ok(false), "the ball should sleep by now");
+    let asleep = w.body(ball).unwrap();
+    let j = Vec2::new(2.0, 0.0);
+    w.apply_linear_impulse_to_center(ball, j, false).unwrap();
+    w.apply_angular_impulse(ball, 1.0, false).unwrap();
+    w.apply_linear_impulse(ball, j, asleep.position + Vec2::Y, false)
+        .unwrap();
+    assert_eq!(w.body(ball).unwrap(), asleep);
+    // Refused whole: the valid parts of a bad call change nothing either.
+    let nan = Vec2::new(f32::NAN, 0.0);
+    assert!(matches!(
+        w.apply_linear_impulse_to_center(ball, nan, true),
+        Err(WorldError::Invalid { .. })
+    ));
+    assert!(w.apply_linear_impulse(ball, j, nan, true).is_err());
+    assert!(w.apply_angular_impulse(ball, f32::INFINITY, true).is_err());
+    assert_eq!(w.body(ball).unwrap(), asleep);
+    // Woken, it takes each impulse by its inverse mass or inertia (1e-6 relative: f32).
+    let (m, i) = (w.mass(ball).unwrap(), w.inertia(ball).unwrap());
+    w.apply_linear_impulse_to_center(ball, j, true).unwrap();
+    let b = w.body(ball).unwrap();
+    assert!(b.awake);
+    assert!((b.linear_velocity.x * m / 2.0 - 1.0).abs() < 1e-6, "{b:?}");
+    assert_eq!(b.angular_velocity, asleep.angular_velocity);
+    w.apply_angular_impulse(ball, 0.5, true).unwrap();
+    let w1 = w.body(ball).unwrap().angular_velocity;
+    assert!(
+        ((w1 - asleep.angular_velocity) * i / 0.5 - 1.0).abs() < 1e-6,
+        "{w1}"
+    );
+    // A static body takes nothing.
+    let ground = BodyId::scene(0);
+    w.apply_linear_impulse_to_center(ground, j, true).unwrap();
+    assert_eq!(w.body(ground).unwrap().linear_velocity, Vec2::ZERO);
+}
