@@ -3,7 +3,8 @@
 //! [`load`] is what the runner, the viewer and the tests call; [`parse`] is the part that
 //! turns bytes into a validated [`SceneDef`] and is what fuzzers call. Neither panics on any
 //! input: every refusal is a [`LoadError`] whose `Display` is a complete message for a person,
-//! naming the file, the place (`line:column`, or `body N` and the field) and what is allowed.
+//! naming the file, the place (`line:column` and the field's path, such as
+//! `bodies[3].shapes[1].filter.category`, or `body N` and the field) and what is allowed.
 
 pub mod builtin;
 pub mod cli;
@@ -148,7 +149,7 @@ pub enum LoadError {
         format: Format,
     },
     /// A syntax error, an unknown field or a value of the wrong type.
-    #[error("{origin}:{line}:{column}: {message}\n  hint: {hint}")]
+    #[error("{origin}:{line}:{column}: {}{message}\n  hint: {hint}", path_prefix(.path))]
     Syntax {
         /// The file (or other origin) of the bytes.
         origin: String,
@@ -156,6 +157,9 @@ pub enum LoadError {
         line: usize,
         /// Column of the error, from 1.
         column: usize,
+        /// The field being read when the error came, from the top of the scene
+        /// (`bodies[3].shapes[1].filter.category`), or empty at the top level.
+        path: String,
         /// What went wrong, as the parser says it.
         message: String,
         /// What to do about it: for unknown fields, the allowed fields.
@@ -172,7 +176,35 @@ pub enum LoadError {
     },
 }
 
+/// `path: ` before a message, or nothing for the top level.
+fn path_prefix(path: &str) -> String {
+    if path.is_empty() {
+        String::new()
+    } else {
+        format!("{path}: ")
+    }
+}
+
+/// The path `serde_path_to_error` tracked, as `bodies[3].shapes[1].filter.category`; empty at
+/// the top level (which the crate writes as `.`).
+fn field_path(path: &serde_path_to_error::Path) -> String {
+    if path.iter().next().is_none() {
+        String::new()
+    } else {
+        path.to_string()
+    }
+}
+
 impl LoadError {
+    /// The field path of a syntax or type error (`bodies[3].shapes[1].filter.category`), if
+    /// this is one and the error is inside the scene's top level.
+    pub fn path(&self) -> Option<&str> {
+        match self {
+            LoadError::Syntax { path, .. } if !path.is_empty() => Some(path),
+            _ => None,
+        }
+    }
+
     /// The `line:column` of a syntax error, if this is one.
     pub fn position(&self) -> Option<(usize, usize)> {
         match self {
@@ -325,15 +357,24 @@ const SCHEMA_HINT: &str = "see docs/scenes.md for the fields, their types and de
 fn parse_ron(text: &str, origin: &str) -> Result<SceneDef, LoadError> {
     // The default options keep ron's recursion limit, so deep nesting is an error, not a crash.
     let options = ron::Options::default();
-    options
-        .from_str::<SceneDef>(text)
-        .map_err(|e| LoadError::Syntax {
-            origin: origin.to_string(),
-            line: e.span.start.line.max(1),
-            column: e.span.start.col.max(1),
-            message: ron_message(&e.code),
-            hint: ron_hint(&e.code),
-        })
+    let syntax = |e: ron::error::SpannedError, path: String| LoadError::Syntax {
+        origin: origin.to_string(),
+        line: e.span.start.line.max(1),
+        column: e.span.start.col.max(1),
+        path,
+        message: ron_message(&e.code),
+        hint: ron_hint(&e.code),
+    };
+    // What `Options::from_str` does, with the path of the field tracked on the way.
+    let mut de = ron::Deserializer::from_str_with_options(text, &options)
+        .map_err(|e| syntax(e, String::new()))?;
+    let scene = serde_path_to_error::deserialize::<_, SceneDef>(&mut de).map_err(|e| {
+        let path = field_path(e.path());
+        syntax(de.span_error(e.into_inner()), path)
+    })?;
+    de.end()
+        .map_err(|e| syntax(de.span_error(e), String::new()))?;
+    Ok(scene)
 }
 
 /// ron's own message, less the list of alternatives that the hint gives.
@@ -422,8 +463,14 @@ fn ron_hint(code: &ron::Error) -> String {
 }
 
 fn parse_json(text: &str, origin: &str) -> Result<SceneDef, LoadError> {
+    // What `serde_json::from_str` does, with the path of the field tracked on the way.
     // serde_json keeps its default recursion limit (128), so deep nesting is an error.
-    serde_json::from_str::<SceneDef>(text).map_err(|e| {
+    let mut de = serde_json::Deserializer::from_str(text);
+    let parsed = match serde_path_to_error::deserialize::<_, SceneDef>(&mut de) {
+        Ok(scene) => de.end().map(|()| scene).map_err(|e| (String::new(), e)),
+        Err(e) => Err((field_path(e.path()), e.into_inner())),
+    };
+    parsed.map_err(|(path, e)| {
         let full = e.to_string();
         let (line, column) = if e.line() == 0 {
             end_position(text)
@@ -436,16 +483,27 @@ fn parse_json(text: &str, origin: &str) -> Result<SceneDef, LoadError> {
         // The hint lists what is allowed; the message need not say it twice.
         let message = match message.split_once(", expected ") {
             Some((head, _)) if message.starts_with("unknown ") => head.to_string(),
-            _ => message.to_string(),
+            _ => negative_unsigned(message).unwrap_or_else(|| message.to_string()),
         };
         LoadError::Syntax {
             origin: origin.to_string(),
             line,
             column,
+            path,
             message,
             hint,
         }
     })
+}
+
+/// serde's "invalid value: integer `-1`, expected u64" said plainly: "-1 is not an unsigned
+/// integer (u64)".
+fn negative_unsigned(message: &str) -> Option<String> {
+    let rest = message.strip_prefix("invalid value: integer `")?;
+    let (value, expected) = rest.split_once("`, expected ")?;
+    let unsigned = matches!(expected, "u8" | "u16" | "u32" | "u64" | "u128" | "usize");
+    (value.starts_with('-') && unsigned)
+        .then(|| format!("{value} is not an unsigned integer ({expected})"))
 }
 
 fn json_hint(message: &str, category: serde_json::error::Category) -> String {
@@ -1333,5 +1391,162 @@ mod tests {
         assert!(
             matches!(&m.bodies[0].shape, Some(tumble_physics::ShapeDef::Polygon { vertices, radius: 0.0 }) if vertices.len() == 3)
         );
+    }
+
+    /// Four bodies, the fourth of two parts whose second has `filter` as its filter.
+    fn fourth_body_second_part_json(filter: &str) -> String {
+        let circle = r#"{"shape": {"Circle": {"radius": 1}}}"#;
+        format!(
+            "{{\"bodies\": [\n  {circle},\n  {circle},\n  {circle},\n  {{\"shapes\": [{circle}, \
+             {{\"shape\": {{\"Circle\": {{\"radius\": 1}}}}, \"filter\": {filter}}}]}}\n]}}"
+        )
+    }
+
+    fn fourth_body_second_part_ron(filter: &str) -> String {
+        let circle = "(shape: Circle(radius: 1))";
+        format!(
+            "(bodies: [\n  {circle},\n  {circle},\n  {circle},\n  \
+             (shapes: [{circle}, (shape: Circle(radius: 1), filter: {filter})]),\n])"
+        )
+    }
+
+    /// Two circles and a revolute joint whose fields are `fields`.
+    fn one_joint_json(fields: &str) -> String {
+        let circle = r#"{"shape": {"Circle": {"radius": 1}}}"#;
+        format!(r#"{{"bodies": [{circle}, {circle}], "joints": [{{"Revolute": {{{fields}}}}}]}}"#)
+    }
+
+    fn one_joint_ron(fields: &str) -> String {
+        let circle = "(shape: Circle(radius: 1))";
+        format!("(bodies: [{circle}, {circle}], joints: [Revolute({fields})])")
+    }
+
+    #[test]
+    fn a_negative_category_names_the_field_path() {
+        let path = "bodies[3].shapes[1].filter.category";
+        let e = json(
+            &fourth_body_second_part_json(r#"{"category": -1}"#),
+            "neg.json",
+        )
+        .unwrap_err();
+        assert_eq!(e.path(), Some(path));
+        let m = e.to_string();
+        assert!(
+            m.starts_with(&format!(
+                "neg.json:5:114: {path}: -1 is not an unsigned integer (u64)\n  hint: "
+            )),
+            "{m}"
+        );
+        let e = ron(&fourth_body_second_part_ron("(category: -1)"), "neg.ron").unwrap_err();
+        assert_eq!(e.path(), Some(path));
+        let m = e.to_string();
+        assert!(
+            m.starts_with("neg.ron:5:") && m.contains(&format!(": {path}: ")),
+            "{m}"
+        );
+        // A good category loads, so the error was the sign alone.
+        json(
+            &fourth_body_second_part_json(r#"{"category": 2}"#),
+            "ok.json",
+        )
+        .unwrap();
+        ron(&fourth_body_second_part_ron("(category: 2)"), "ok.ron").unwrap();
+    }
+
+    #[test]
+    fn a_string_for_a_number_in_a_joint_names_the_field_path() {
+        let m = expect_err(
+            json(
+                &one_joint_json(r#""bodies": [0, 1], "anchor": [0, "zero"]"#),
+                "joint.json",
+            ),
+            &[
+                "joint.json:1:",
+                ": joints[0].Revolute.anchor[1]: ",
+                "string \"zero\"",
+                "hint:",
+            ],
+        );
+        assert!(m.contains("f32"), "{m}");
+        expect_err(
+            ron(
+                &one_joint_ron(r#"bodies: (0, 1), anchor: (0, "zero")"#),
+                "joint.ron",
+            ),
+            &["joint.ron:1:", ": joints[0].Revolute.anchor[1]: ", "hint:"],
+        );
+        // A body named by a string rather than its index.
+        expect_err(
+            json(
+                &one_joint_json(r#""bodies": [0, "one"], "anchor": [0, 0]"#),
+                "body.json",
+            ),
+            &[
+                "body.json:1:",
+                ": joints[0].Revolute.bodies[1]: ",
+                "\"one\"",
+            ],
+        );
+        expect_err(
+            ron(
+                &one_joint_ron(r#"bodies: (0, "one"), anchor: (0, 0)"#),
+                "body.ron",
+            ),
+            &["body.ron:1:", ": joints[0].Revolute.bodies[1]: "],
+        );
+    }
+
+    #[test]
+    fn an_unknown_field_names_the_field_path() {
+        let m = expect_err(
+            json(
+                &fourth_body_second_part_json(r#"{"categroy": 2}"#),
+                "typo.json",
+            ),
+            &[
+                "typo.json:5:",
+                ": bodies[3].shapes[1].filter.categroy: unknown field `categroy`",
+                "hint: allowed fields here: `category`, `mask`, `group`",
+            ],
+        );
+        assert!(!m.contains("expected"), "the hint lists the fields: {m}");
+        expect_err(
+            ron(&fourth_body_second_part_ron("(categroy: 2)"), "typo.ron"),
+            &[
+                "typo.ron:5:",
+                ": bodies[3].shapes[1].filter.categroy: unknown field `categroy`",
+                "`category`, `mask`, `group`",
+            ],
+        );
+        let m = expect_err(
+            json(
+                &one_joint_json(r#""bodies": [0, 1], "anchor": [0, 0], "ancor_b": [0, 0]"#),
+                "joint.json",
+            ),
+            &[
+                "joint.json:1:",
+                ": joints[0].Revolute.ancor_b: unknown field",
+            ],
+        );
+        assert!(m.contains("`anchor_b`"), "{m}");
+        expect_err(
+            ron(
+                &one_joint_ron("bodies: (0, 1), anchor: (0, 0), ancor_b: (0, 0)"),
+                "joint.ron",
+            ),
+            &[
+                "joint.ron:1:",
+                ": joints[0].Revolute.ancor_b: unknown field",
+                "`anchor_b`",
+            ],
+        );
+        // A top-level field is its own path; past the end of the scene there is none.
+        let e = json(r#"{"bodies": [], "gravty": [0, -10]}"#, "top.json").unwrap_err();
+        assert_eq!(e.path(), Some("gravty"));
+        let e = json(r#"{"bodies": []} x"#, "tail.json").unwrap_err();
+        assert_eq!(e.path(), None);
+        assert!(e.to_string().starts_with("tail.json:1:16: trailing"), "{e}");
+        let e = ron("(bodies: []) x", "tail.ron").unwrap_err();
+        assert_eq!(e.path(), None);
     }
 }
