@@ -20,7 +20,7 @@ impl World {
     /// Creates a body (between steps), checked as a scene body would be (the error names
     /// the slot it would have taken), and returns its id. It takes the lowest free slot.
     pub fn create_body(&mut self, def: &BodyDef) -> Result<BodyId, SceneError> {
-        let index = self.body_slots.next_index() as usize;
+        let index = self.bodies.slots.next_index() as usize;
         let one = SceneDef {
             bodies: vec![def.clone()],
             ..SceneDef::new("")
@@ -46,7 +46,7 @@ impl World {
 
     /// Builds a validated body into the stores.
     pub(super) fn insert_body(&mut self, def: &BodyDef, expected: usize) -> BodyId {
-        let (index, generation, new) = self.body_slots.take();
+        let (index, generation, new) = self.bodies.slots.take();
         debug_assert_eq!(index as usize, expected);
         let i = index as usize;
         let xf = Transform {
@@ -82,20 +82,20 @@ impl World {
             ..BodyState::default()
         };
         if new {
-            self.sims.push(sim);
-            self.records.push(record);
-            self.states.push(state);
-            self.solver_bodies.push(SolverBody::default());
-            self.motion.push(BodyMotion::default());
-            self.awake.push(false);
+            self.bodies.sims.push(sim);
+            self.bodies.records.push(record);
+            self.bodies.states.push(state);
+            self.bodies.masses.push(SolverBody::default());
+            self.bodies.motion.push(BodyMotion::default());
+            self.bodies.awake.push(false);
         } else {
-            self.sims[i] = sim;
-            self.records[i] = record;
-            self.states[i] = state;
+            self.bodies.sims[i] = sim;
+            self.bodies.records[i] = record;
+            self.bodies.states[i] = state;
         }
         self.islands.grow(i + 1);
         if def.kind == BodyKind::Kinematic {
-            self.kinematic_count += 1;
+            self.bodies.kinematic_count += 1;
         }
         let parts = def.parts();
         for (k, part) in parts.iter().enumerate() {
@@ -104,18 +104,19 @@ impl World {
                 continue;
             };
             // Every shape of a part (a chain's segments) carries the part's index.
-            self.records[i].parts = k as u32;
+            self.bodies.records[i].parts = k as u32;
             for (shape, local) in shapes {
                 self.insert_shape(index, shape, local, part);
             }
         }
-        self.records[i].parts = parts.len() as u32;
+        self.bodies.records[i].parts = parts.len() as u32;
         // A body of one shape: its position is its centre of mass (its one shape is centred
         // there). A body of several: its position is its frame's origin, and `update_mass`
         // moves the centre to where the parts put it. It has no contacts to tell.
         debug_assert!(
             !self
                 .contacts
+                .list
                 .iter()
                 .any(|c| c.body_a == index || c.body_b == index)
         );
@@ -124,9 +125,9 @@ impl World {
         if def.kind == BodyKind::Dynamic {
             self.islands.create(index, !asleep);
         }
-        self.awake[i] = def.kind != BodyKind::Static && !asleep;
+        self.bodies.awake[i] = def.kind != BodyKind::Static && !asleep;
         if asleep {
-            let st = &mut self.states[i];
+            let st = &mut self.bodies.states[i];
             st.v = Vec2::ZERO;
             st.w = 0.0;
         }
@@ -143,7 +144,7 @@ impl World {
         local: Transform,
         part: &crate::scene::ResolvedPart<'_>,
     ) -> ShapeId {
-        let (index, generation, new) = self.shape_slots.take();
+        let (index, generation, new) = self.shapes.slots.take();
         let record = ShapeRecord {
             body,
             local,
@@ -155,39 +156,17 @@ impl World {
             filter: part.filter,
             sensor: part.sensor,
             next: NONE,
-            part: self.records[body as usize].parts,
+            part: self.bodies.records[body as usize].parts,
         };
         // Appended: a body's shapes are listed in part order.
         match self.shapes_of_body(body as usize).last() {
-            None => self.records[body as usize].first_shape = index,
-            Some(last) => self.shape_records[last as usize].next = index,
+            None => self.bodies.records[body as usize].first_shape = index,
+            Some(last) => self.shapes.records[last as usize].next = index,
         }
-        let empty = Aabb {
-            min: Vec2::ZERO,
-            max: Vec2::ZERO,
-        };
-        let s = index as usize;
-        if new {
-            self.shapes.push(shape);
-            self.shape_records.push(record);
-            self.shape_body.push(body);
-            self.fat_aabbs.push(empty);
-            self.core_aabbs.push(empty);
-            self.moved_flags.push(false);
-        } else {
-            self.shapes[s] = shape;
-            self.shape_records[s] = record;
-            self.shape_body[s] = body;
-            self.fat_aabbs[s] = empty;
-            self.core_aabbs[s] = empty;
-            self.moved_flags[s] = false;
-        }
+        self.shapes.put(index, new, shape, record);
         if part.sensor {
             self.add_sensor(index);
         }
-        self.proxies_changed = true;
-        self.static_tree_stale = true;
-        self.tree_dirty = true;
         ShapeId { index, generation }
     }
 
@@ -202,13 +181,13 @@ impl World {
 
     /// The shapes of body `i`, in part order.
     pub(super) fn shapes_of_body(&self, i: usize) -> impl Iterator<Item = u32> + '_ {
-        let mut s = self.records[i].first_shape;
+        let mut s = self.bodies.records[i].first_shape;
         std::iter::from_fn(move || {
             if s == NONE {
                 return None;
             }
             let here = s;
-            s = self.shape_records[s as usize].next;
+            s = self.shapes.records[s as usize].next;
             Some(here)
         })
     }
@@ -216,8 +195,8 @@ impl World {
     /// The mass data of body `i`'s shapes as they are placed on it.
     pub(super) fn shapes_mass(&self, i: usize) -> BodyMass {
         BodyMass::of_shapes(self.shapes_of_body(i).map(|s| {
-            let r = &self.shape_records[s as usize];
-            (&self.shapes[s as usize], r.local, r.density)
+            let r = &self.shapes.records[s as usize];
+            (&self.shapes.geometry[s as usize], r.local, r.density)
         }))
     }
 
@@ -234,20 +213,20 @@ impl World {
     /// none (a scan of every contact per body made would cost a world making many).
     fn set_mass_data(&mut self, body: u32) {
         let i = body as usize;
-        let kind = self.sims[i].kind;
+        let kind = self.bodies.sims[i].kind;
         let shape_ids: Vec<u32> = self.shapes_of_body(i).collect();
         let md = self.shapes_mass(i);
         let dynamic = kind == BodyKind::Dynamic;
         let center = if dynamic { md.center } else { Vec2::ZERO };
         // Keep the frame's origin where it is.
-        let old_center = self.records[i].local_center;
+        let old_center = self.bodies.records[i].local_center;
         if old_center != center {
-            let q = self.sims[i].xf.q;
-            self.sims[i].xf.p += q.apply(center - old_center);
+            let q = self.bodies.sims[i].xf.q;
+            self.bodies.sims[i].xf.p += q.apply(center - old_center);
         }
-        self.records[i].local_center = center;
+        self.bodies.records[i].local_center = center;
         let (inv_mass, inv_inertia) = if dynamic && md.mass > 0.0 {
-            let inv_i = if self.records[i].fixed_rotation || md.inertia <= 0.0 {
+            let inv_i = if self.bodies.records[i].fixed_rotation || md.inertia <= 0.0 {
                 0.0
             } else {
                 1.0 / md.inertia
@@ -258,10 +237,10 @@ impl World {
         };
         // Extents about the centre actually used (for other than dynamic bodies, the origin).
         let extent = shape_ids.iter().fold(0.0f32, |e, &s| {
-            let r = &self.shape_records[s as usize];
-            e.max((r.local.p - center).length() + self.shapes[s as usize].extent())
+            let r = &self.shapes.records[s as usize];
+            e.max((r.local.p - center).length() + self.shapes.geometry[s as usize].extent())
         });
-        let sim = &mut self.sims[i];
+        let sim = &mut self.bodies.sims[i];
         sim.inv_inertia = inv_inertia;
         sim.extent = extent;
         sim.min_extent = md.min_extent;
@@ -270,13 +249,13 @@ impl World {
             // Box2D `b2ComputeShapeMargin`: small shapes get proportionally small margins.
             _ => AABB_MARGIN.min(0.125 * extent),
         };
-        self.solver_bodies[i] = SolverBody {
+        self.bodies.masses[i] = SolverBody {
             inv_mass,
             inv_inertia,
             dynamic,
         };
         for &s in &shape_ids {
-            let r = &mut self.shape_records[s as usize];
+            let r = &mut self.shapes.records[s as usize];
             r.from_center = Transform {
                 p: r.local.p - center,
                 q: r.local.q,
@@ -290,16 +269,16 @@ impl World {
     /// `body`'s. A body just made has no contacts yet and skips this scan of them all.
     fn refresh_contact_masses(&mut self, body: u32) {
         // (The colouring needs no telling: it is checked against the touching pairs.)
-        self.awake_contacts_stale = true;
-        for (c, key) in self.contacts.iter_mut().zip(&mut self.contact_keys) {
+        self.contacts.awake_stale = true;
+        for (c, key) in self.contacts.list.iter_mut().zip(&mut self.contacts.keys) {
             if c.body_a == body || c.body_b == body {
                 c.masses = [
-                    self.solver_bodies[c.body_a as usize],
-                    self.solver_bodies[c.body_b as usize],
+                    self.bodies.masses[c.body_a as usize],
+                    self.bodies.masses[c.body_b as usize],
                 ];
                 *key = ContactKey {
                     touching: key.touching,
-                    ..ContactKey::of(c, &self.awake)
+                    ..ContactKey::of(c, &self.bodies.awake)
                 };
             }
         }
@@ -308,19 +287,19 @@ impl World {
     /// The integration flags of a body from its kind, mass and sleep state.
     pub(super) fn refresh_motion(&mut self, body: u32) {
         let i = body as usize;
-        let kind = self.sims[i].kind;
-        let r = &self.records[i];
-        let awake = self.awake[i];
-        if self.motion[i].moves != (kind != BodyKind::Static && awake) {
-            self.moving_stale = true;
+        let kind = self.bodies.sims[i].kind;
+        let r = &self.bodies.records[i];
+        let awake = self.bodies.awake[i];
+        if self.bodies.motion[i].moves != (kind != BodyKind::Static && awake) {
+            self.bodies.awake_set_stale = true;
         }
-        self.motion[i] = BodyMotion {
+        self.bodies.motion[i] = BodyMotion {
             dynamic: kind == BodyKind::Dynamic && awake,
             moves: kind != BodyKind::Static && awake,
             rotates: match kind {
                 BodyKind::Static => false,
                 BodyKind::Kinematic => true,
-                BodyKind::Dynamic => self.sims[i].inv_inertia > 0.0,
+                BodyKind::Dynamic => self.bodies.sims[i].inv_inertia > 0.0,
             },
             linear_damping: r.linear_damping,
             angular_damping: r.angular_damping,
@@ -331,7 +310,7 @@ impl World {
     /// Whether every pair of body `i`'s shapes goes by swept boxes alone: a static body's
     /// (only moving bodies sweep, so this is as for any pair with it) and a bullet's.
     pub(super) fn sweeps_every_pair(&self, i: usize) -> bool {
-        self.sims[i].kind == BodyKind::Static || self.records[i].bullet
+        self.bodies.sims[i].kind == BodyKind::Static || self.bodies.records[i].bullet
     }
 
     /// Makes a body a bullet or not (between steps): a bullet's pairs with moving bodies are
@@ -342,8 +321,8 @@ impl World {
     /// is pushed apart.
     pub fn set_bullet(&mut self, id: BodyId, bullet: bool) -> Result<(), WorldError> {
         let i = self.slot(id)?;
-        if self.records[i].bullet != bullet {
-            self.records[i].bullet = bullet;
+        if self.bodies.records[i].bullet != bullet {
+            self.bodies.records[i].bullet = bullet;
             // New pairs come from its moved proxies; pairs no longer wanted part in the
             // narrow phase.
             self.refresh_shape_boxes(i as u32);
@@ -357,44 +336,41 @@ impl World {
     /// carries 0; snapshots keep the tag; the step never reads it.
     pub fn set_user_data(&mut self, id: BodyId, user_data: u64) -> Result<(), WorldError> {
         let i = self.slot(id)?;
-        self.records[i].user_data = user_data;
+        self.bodies.records[i].user_data = user_data;
         Ok(())
     }
 
     /// The tag [`World::set_user_data`] gave a body (0 if none).
     pub fn user_data(&self, id: BodyId) -> Result<u64, WorldError> {
-        self.slot(id).map(|i| self.records[i].user_data)
+        self.slot(id).map(|i| self.bodies.records[i].user_data)
     }
 
     /// Recomputes the fat boxes of a body's shapes and marks them moved (after the body was
     /// created or teleported).
     pub(super) fn refresh_shape_boxes(&mut self, body: u32) {
         let i = body as usize;
+        // Swept over a step as long as the last (the next is not known yet).
+        let dt = self.stats.last_dt;
+        let unswept_everywhere = self.sweeps_every_pair(i);
+        let is_static = self.bodies.sims[i].kind == BodyKind::Static;
         let ids: Vec<u32> = self.shapes_of_body(i).collect();
         for s in ids {
             let su = s as usize;
+            let sim = &self.bodies.sims[i];
             let (core, swept) = step::shape_boxes(
-                &self.shapes[su],
-                &self.shape_records[su],
-                &self.sims[i],
-                &self.states[i],
-                1.0 / 60.0,
+                &self.shapes.geometry[su],
+                &self.shapes.records[su],
+                sim,
+                &self.bodies.states[i],
+                dt,
             );
-            let margin = self.sims[i].margin;
-            self.fat_aabbs[su] = swept.grown(margin);
-            self.core_aabbs[su] = if self.sweeps_every_pair(i) {
+            let unswept = if unswept_everywhere {
                 Aabb::EVERYWHERE
             } else {
-                core.grown(margin)
+                core.grown(sim.margin)
             };
-            if !self.moved_flags[su] {
-                self.moved_flags[su] = true;
-                self.moved.push(s);
-            }
-        }
-        self.tree_dirty = true;
-        if self.sims[i].kind == BodyKind::Static {
-            self.static_tree_stale = true;
+            let swept = swept.grown(sim.margin);
+            self.shapes.set_boxes(s, swept, unswept, is_static);
         }
     }
 
@@ -413,13 +389,14 @@ impl World {
                 why: "velocities must be finite".into(),
             });
         }
-        if self.sims[i].kind == BodyKind::Static {
+        if self.bodies.sims[i].kind == BodyKind::Static {
             return Ok(());
         }
         self.wake_body(i as u32);
-        let s = &mut self.states[i];
+        let s = &mut self.bodies.states[i];
         s.v = linear;
-        if self.sims[i].inv_inertia > 0.0 || self.sims[i].kind == BodyKind::Kinematic {
+        if self.bodies.sims[i].inv_inertia > 0.0 || self.bodies.sims[i].kind == BodyKind::Kinematic
+        {
             s.w = angular;
         }
         Ok(())
@@ -439,9 +416,9 @@ impl World {
         finite("impulse", impulse)?;
         finite("point", point)?;
         if self.impulse_target(i, wake) {
-            let body = self.solver_bodies[i];
-            let r = point - self.sims[i].xf.p;
-            let s = &mut self.states[i];
+            let body = self.bodies.masses[i];
+            let r = point - self.bodies.sims[i].xf.p;
+            let s = &mut self.bodies.states[i];
             s.v += impulse * body.inv_mass;
             s.w += body.inv_inertia * crate::math::cross(r, impulse);
         }
@@ -459,8 +436,8 @@ impl World {
         let i = self.slot(id)?;
         finite("impulse", impulse)?;
         if self.impulse_target(i, wake) {
-            let inv_mass = self.solver_bodies[i].inv_mass;
-            self.states[i].v += impulse * inv_mass;
+            let inv_mass = self.bodies.masses[i].inv_mass;
+            self.bodies.states[i].v += impulse * inv_mass;
         }
         Ok(())
     }
@@ -481,22 +458,22 @@ impl World {
             });
         }
         if self.impulse_target(i, wake) {
-            let inv_inertia = self.solver_bodies[i].inv_inertia;
-            self.states[i].w += inv_inertia * impulse;
+            let inv_inertia = self.bodies.masses[i].inv_inertia;
+            self.bodies.states[i].w += inv_inertia * impulse;
         }
         Ok(())
     }
 
     /// Whether an impulse moves body `i`: it is dynamic and awake, or woken now.
     fn impulse_target(&mut self, i: usize, wake: bool) -> bool {
-        if !self.solver_bodies[i].dynamic {
+        if !self.bodies.masses[i].dynamic {
             return false;
         }
         if wake {
             // Also restarts its rest timer, as a touch does.
             self.wake_body(i as u32);
         }
-        self.awake[i]
+        self.bodies.awake[i]
     }
 
     /// Moves a body's frame to `position` and `angle` (between steps): it teleports, keeps
@@ -515,13 +492,13 @@ impl World {
             });
         }
         let q = Rot::from_angle(angle);
-        let c = self.records[i].local_center;
-        self.sims[i].xf = Transform {
+        let c = self.bodies.records[i].local_center;
+        self.bodies.sims[i].xf = Transform {
             p: position + q.apply(c),
             q,
         };
         // The move is not motion the recycling could follow.
-        for c in self.contacts.iter_mut() {
+        for c in self.contacts.list.iter_mut() {
             if c.body_a as usize == i || c.body_b as usize == i {
                 c.cache = None;
             }
@@ -550,14 +527,14 @@ impl World {
                 why: "a finite pose and a time step > 0".into(),
             });
         }
-        if self.sims[i].kind == BodyKind::Static {
+        if self.bodies.sims[i].kind == BodyKind::Static {
             return Err(WorldError::Invalid {
                 what: format!("{id}"),
                 why: "a static body does not move; make it kinematic first".into(),
             });
         }
-        let sim = self.sims[i];
-        let c = self.records[i].local_center;
+        let sim = self.bodies.sims[i];
+        let c = self.bodies.records[i].local_center;
         let q = Rot::from_angle(angle);
         let target_center = position + q.apply(c);
         let v = (target_center - sim.xf.p) / dt;
@@ -565,7 +542,7 @@ impl World {
         let dq = sim.xf.q.inv_mul(q);
         let w = dq.s.atan2(dq.c) / dt;
         self.wake_body(i as u32);
-        let st = &mut self.states[i];
+        let st = &mut self.bodies.states[i];
         st.v = v;
         st.w = w;
         Ok(())
@@ -574,7 +551,7 @@ impl World {
     /// Changes a body's kind (between steps); its mass data, islands and contacts follow.
     pub fn set_kind(&mut self, id: BodyId, kind: BodyKind) -> Result<(), WorldError> {
         let i = self.slot(id)?;
-        let old = self.sims[i].kind;
+        let old = self.bodies.sims[i].kind;
         if old == kind {
             return Ok(());
         }
@@ -594,21 +571,21 @@ impl World {
         self.wake_touching(&[i as u32], |b| b == i as u32);
         self.islands.remove_body(i as u32);
         if old == BodyKind::Kinematic {
-            self.kinematic_count -= 1;
+            self.bodies.kinematic_count -= 1;
         }
         if kind == BodyKind::Kinematic {
-            self.kinematic_count += 1;
+            self.bodies.kinematic_count += 1;
         }
-        self.sims[i].kind = kind;
+        self.bodies.sims[i].kind = kind;
         if old == BodyKind::Static || kind == BodyKind::Static {
-            self.static_tree_stale = true;
+            self.shapes.static_tree_stale = true;
         }
         if kind == BodyKind::Static {
-            self.states[i].v = Vec2::ZERO;
-            self.states[i].w = 0.0;
+            self.bodies.states[i].v = Vec2::ZERO;
+            self.bodies.states[i].w = 0.0;
         }
-        self.awake[i] = kind != BodyKind::Static;
-        self.sims[i].sleep_time = 0.0;
+        self.bodies.awake[i] = kind != BodyKind::Static;
+        self.bodies.sims[i].sleep_time = 0.0;
         if kind == BodyKind::Dynamic {
             self.islands.create(i as u32, true);
         }
@@ -633,7 +610,7 @@ impl World {
     /// time takes a pass each: the call for a game that removes a group (a ragdoll, a wreck).
     /// All or nothing: a stale or repeated id refuses the whole call and changes nothing.
     pub fn destroy_bodies(&mut self, ids: &[BodyId]) -> Result<(), WorldError> {
-        let mut doomed = vec![false; self.sims.len()];
+        let mut doomed = vec![false; self.bodies.sims.len()];
         let mut slots = Vec::with_capacity(ids.len());
         for &id in ids {
             let i = self.slot(id)?;
@@ -646,9 +623,9 @@ impl World {
             slots.push(i as u32);
         }
         let gone = |b: u32| doomed[b as usize];
-        for k in 0..self.joints.len() {
-            let j = &self.joints[k];
-            if self.joint_slots.is_alive(k) && (gone(j.body_a) || gone(j.body_b)) {
+        for k in 0..self.joints.list.len() {
+            let j = &self.joints.list[k];
+            if self.joints.slots.is_alive(k) && (gone(j.body_a) || gone(j.body_b)) {
                 self.remove_joint(k, gone);
             }
         }
@@ -668,16 +645,16 @@ impl World {
         for s in shapes {
             self.release_shape(s);
         }
-        if self.sims[i].kind == BodyKind::Kinematic {
-            self.kinematic_count -= 1;
+        if self.bodies.sims[i].kind == BodyKind::Kinematic {
+            self.bodies.kinematic_count -= 1;
         }
-        self.records[i].first_shape = NONE;
-        self.sims[i].kind = BodyKind::Static;
-        self.states[i] = BodyState::default();
-        self.awake[i] = false;
-        self.solver_bodies[i] = SolverBody::default();
+        self.bodies.records[i].first_shape = NONE;
+        self.bodies.sims[i].kind = BodyKind::Static;
+        self.bodies.states[i] = BodyState::default();
+        self.bodies.awake[i] = false;
+        self.bodies.masses[i] = SolverBody::default();
         self.refresh_motion(i as u32);
-        self.body_slots.release(i as u32);
+        self.bodies.slots.release(i as u32);
     }
 
     /// Adds a shape to a body (between steps), checked as a scene part would be; the body's
@@ -702,7 +679,7 @@ impl World {
         let i = self.slot(body)?;
         // Check it as the part of a one-part body of this kind.
         let mut def = BodyDef::compound(vec![part.clone()]);
-        def.kind = self.sims[i].kind;
+        def.kind = self.bodies.sims[i].kind;
         if !part.shape.has_area() && def.kind == BodyKind::Dynamic {
             // A segment or chain gives no mass: it may join a dynamic body that has some,
             // which the destroy rule below keeps so; check its numbers as a static part's.
@@ -724,7 +701,7 @@ impl World {
             .into_iter()
             .map(|(shape, local)| self.insert_shape(i as u32, shape, local, resolved))
             .collect();
-        self.records[i].parts += 1;
+        self.bodies.records[i].parts += 1;
         self.wake_body(i as u32);
         self.update_mass(i as u32);
         self.refresh_shape_boxes(i as u32);
@@ -736,15 +713,15 @@ impl World {
     /// area (destroy the body instead).
     pub fn destroy_shape(&mut self, id: ShapeId) -> Result<(), WorldError> {
         let s = self.shape_slot(id)?;
-        let body = self.shape_records[s].body;
+        let body = self.shapes.records[s].body;
         let i = body as usize;
-        if self.sims[i].kind == BodyKind::Dynamic {
+        if self.bodies.sims[i].kind == BodyKind::Dynamic {
             let others = self
                 .shapes_of_body(i)
                 .filter(|&o| {
                     o as usize != s
-                        && self.shape_records[o as usize].density > 0.0
-                        && self.shapes[o as usize].has_area()
+                        && self.shapes.records[o as usize].density > 0.0
+                        && self.shapes.geometry[o as usize].has_area()
                 })
                 .count();
             if others == 0 {
@@ -759,15 +736,15 @@ impl World {
         // Its contacts go.
         self.remove_contacts_where(|c| c.shape_a as usize == s || c.shape_b as usize == s);
         // Unlink it from the body's list.
-        let next = self.shape_records[s].next;
-        if self.records[i].first_shape == s as u32 {
-            self.records[i].first_shape = next;
+        let next = self.shapes.records[s].next;
+        if self.bodies.records[i].first_shape == s as u32 {
+            self.bodies.records[i].first_shape = next;
         } else {
-            let mut k = self.records[i].first_shape;
-            while self.shape_records[k as usize].next != s as u32 {
-                k = self.shape_records[k as usize].next;
+            let mut k = self.bodies.records[i].first_shape;
+            while self.shapes.records[k as usize].next != s as u32 {
+                k = self.shapes.records[k as usize].next;
             }
-            self.shape_records[k as usize].next = next;
+            self.shapes.records[k as usize].next = next;
         }
         self.release_shape(s as u32);
         self.islands.unlink(body, body);
@@ -779,21 +756,10 @@ impl World {
 
     /// Frees a shape's slot and drops it from the broad phase.
     pub(super) fn release_shape(&mut self, s: u32) {
-        let su = s as usize;
-        if self.moved_flags[su] {
-            self.moved_flags[su] = false;
-            self.moved.retain(|&m| m != s);
-        }
-        if self.shape_records[su].sensor {
+        if self.shapes.records[s as usize].sensor {
             self.sensors.remove(&s);
         }
-        self.shape_records[su].next = NONE;
-        self.shape_records[su].body = NONE;
-        self.shape_body[su] = NONE;
-        self.shape_slots.release(s);
-        self.proxies_changed = true;
-        self.static_tree_stale = true;
-        self.tree_dirty = true;
+        self.shapes.release(s);
     }
 
     /// Removes every contact of body `i` (its islands were told by the caller).
@@ -805,8 +771,8 @@ impl World {
     /// its bodies' island and ends its touch (a contact end event).
     pub(super) fn remove_contacts_where(&mut self, gone: impl Fn(&Contact) -> bool) {
         let mut keep = 0;
-        for k in 0..self.contacts.len() {
-            let c = self.contacts[k];
+        for k in 0..self.contacts.list.len() {
+            let c = self.contacts.list[k];
             if gone(&c) {
                 if c.touched {
                     self.islands.unlink(c.body_a, c.body_b);
@@ -814,16 +780,17 @@ impl World {
                 }
                 continue;
             }
-            self.contacts[keep] = c;
-            self.contact_keys[keep] = self.contact_keys[k];
+            self.contacts.list[keep] = c;
+            self.contacts.keys[keep] = self.contacts.keys[k];
             keep += 1;
         }
-        if keep != self.contacts.len() {
-            self.awake_contacts_stale = true;
-            self.contacts.truncate(keep);
-            self.contact_keys.truncate(keep);
-            self.pairs = self
+        if keep != self.contacts.list.len() {
+            self.contacts.awake_stale = true;
+            self.contacts.list.truncate(keep);
+            self.contacts.keys.truncate(keep);
+            self.contacts.pairs = self
                 .contacts
+                .list
                 .iter()
                 .enumerate()
                 .map(|(k, c)| (pair_key(c.shape_a, c.shape_b), k as u32))

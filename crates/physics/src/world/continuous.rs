@@ -33,22 +33,25 @@ impl World {
         bullets: bool,
         spread: Spread<'_>,
     ) -> usize {
-        if !bullets && self.static_tree_stale {
-            let (slots, sims, records) = (&self.shape_slots, &self.sims, &self.shape_records);
-            self.static_tree.rebuild(&self.fat_aabbs, |s| {
-                slots.is_alive(s as usize)
-                    && sims[records[s as usize].body as usize].kind == BodyKind::Static
-            });
-            self.static_tree_stale = false;
+        if !bullets && self.shapes.static_tree_stale {
+            let (slots, sims, records) =
+                (&self.shapes.slots, &self.bodies.sims, &self.shapes.records);
+            self.shapes
+                .static_tree
+                .rebuild(&self.shapes.swept_boxes, |s| {
+                    slots.is_alive(s as usize)
+                        && sims[records[s as usize].body as usize].kind == BodyKind::Static
+                });
+            self.shapes.static_tree_stale = false;
         }
-        let mut impacts = std::mem::take(&mut self.sweep_impacts);
+        let mut impacts = std::mem::take(&mut self.sweeps.impacts);
         impacts.clear();
         impacts.resize(fast.len(), 1.0);
         {
             let world = &*self;
             let sweep_part = |_: usize, (times, bodies): (&mut [f32], &[u32])| {
                 for (t, &b) in times.iter_mut().zip(bodies) {
-                    if world.records[b as usize].bullet == bullets {
+                    if world.bodies.records[b as usize].bullet == bullets {
                         *t = world.first_impact(b, &world.sweep_of(b), bullets);
                     }
                 }
@@ -63,17 +66,20 @@ impl World {
         let mut rewound = 0;
         for (&t, &b) in impacts.iter().zip(fast) {
             if t < 1.0 {
-                self.sims[b as usize].xf = self.sweep_of(b).at(t);
+                self.bodies.sims[b as usize].xf = self.sweep_of(b).at(t);
                 rewound += 1;
             }
         }
-        self.sweep_impacts = impacts;
+        self.sweeps.impacts = impacts;
         rewound
     }
 
     /// Body `b`'s motion over the step: from its pose at the start to its pose now.
     fn sweep_of(&self, b: u32) -> Sweep {
-        let (start, end) = (self.sweep_starts[b as usize], self.sims[b as usize].xf);
+        let (start, end) = (
+            self.sweeps.starts[b as usize],
+            self.bodies.sims[b as usize].xf,
+        );
         Sweep {
             c0: start.p,
             c1: end.p,
@@ -91,11 +97,11 @@ impl World {
         // The box every shape of the body passes through in the step.
         let mut swept: Option<Aabb> = None;
         for s in self.shapes_of_body(body) {
-            let r = &self.shape_records[s as usize];
+            let r = &self.shapes.records[s as usize];
             if r.sensor {
                 continue;
             }
-            let shape = &self.shapes[s as usize];
+            let shape = &self.shapes.geometry[s as usize];
             let at = |xf: Transform| shape.aabb(xf.compose(r.from_center));
             let both = at(sweep.at(0.0)).union(&at(sweep.at(1.0)));
             swept = Some(swept.map_or(both, |b| b.union(&both)));
@@ -103,37 +109,40 @@ impl World {
         let Some(swept) = swept else {
             return 1.0;
         };
-        let min_extent = self.sims[body].min_extent;
+        let min_extent = self.bodies.sims[body].min_extent;
         let mut best = 1.0f32;
         let mut against = |o: u32| {
-            let ro = &self.shape_records[o as usize];
+            let ro = &self.shapes.records[o as usize];
             let other = ro.body as usize;
-            let kind = self.sims[other].kind;
+            let kind = self.bodies.sims[other].kind;
             let blocks = match kind {
                 BodyKind::Static => true,
-                _ => bullet && !self.records[other].bullet,
+                _ => bullet && !self.bodies.records[other].bullet,
             };
             if other == body || !blocks || ro.sensor {
                 return;
             }
-            if !self.no_collide.is_empty()
-                && self.no_collide.contains_key(&super::pair_key(b, ro.body))
+            if !self.joints.no_collide.is_empty()
+                && self
+                    .joints
+                    .no_collide
+                    .contains_key(&super::pair_key(b, ro.body))
             {
                 return;
             }
-            let other_pose = self.sims[other].xf;
-            let other_proxy = Proxy::of(&self.shapes[o as usize], ro.from_center);
+            let other_pose = self.bodies.sims[other].xf;
+            let other_proxy = Proxy::of(&self.shapes.geometry[o as usize], ro.from_center);
             let other_sweep = Sweep::still(other_pose);
             for s in self.shapes_of_body(body) {
-                let r = &self.shape_records[s as usize];
+                let r = &self.shapes.records[s as usize];
                 if r.sensor || !r.filter.should_collide(&ro.filter) {
                     continue;
                 }
-                let shape = &self.shapes[s as usize];
+                let shape = &self.shapes.geometry[s as usize];
                 let centroid = r
                     .from_center
                     .apply(shape.aabb(Transform::IDENTITY).center());
-                if let Shape::ChainSegment(c) = &self.shapes[o as usize] {
+                if let Shape::ChainSegment(c) = &self.shapes.geometry[o as usize] {
                     // A chain pushes only from its front: sweep only a shape whose centre
                     // crosses it from front to back (Box2D's rule, so that a body sliding
                     // along a chain, or leaving it from behind, is not held back).
@@ -171,7 +180,9 @@ impl World {
         } else {
             // Only static shapes stop a body that is not a bullet: their own tree, not the
             // one of every shape (a pile of falling boxes would find each other).
-            self.static_tree.query(&swept, &self.fat_aabbs, against);
+            self.shapes
+                .static_tree
+                .query(&swept, &self.shapes.swept_boxes, against);
         }
         best
     }

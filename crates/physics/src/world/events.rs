@@ -168,16 +168,16 @@ impl World {
     /// [`Event`] for what each means, and the module's documentation for their order,
     /// which is the same on any thread count). The next step clears them.
     pub fn events(&self) -> &[Event] {
-        &self.event_log.events
+        &self.events.events
     }
 
     /// The bodies the last step moved (every awake body; ascending slot), with their pose
     /// now and whether they fell asleep. A body destroyed since is left out.
     pub fn body_moves(&self) -> impl Iterator<Item = BodyMove> + '_ {
-        self.event_log
+        self.events
             .moved_bodies
             .iter()
-            .filter(|id| self.body_slots.holds(id.index, id.generation))
+            .filter(|id| self.bodies.slots.holds(id.index, id.generation))
             .map(|&id| {
                 let view = self.body_view(id.index as usize);
                 BodyMove {
@@ -191,15 +191,15 @@ impl World {
 
     /// How shape slot `s` is named in an event.
     pub(super) fn shape_ref(&self, s: u32) -> ShapeRef {
-        let r = &self.shape_records[s as usize];
+        let r = &self.shapes.records[s as usize];
         ShapeRef {
             shape: ShapeId {
                 index: s,
-                generation: self.shape_slots.generation(s as usize),
+                generation: self.shapes.slots.generation(s as usize),
             },
             body: BodyId {
                 index: r.body,
-                generation: self.body_slots.generation(r.body as usize),
+                generation: self.bodies.slots.generation(r.body as usize),
             },
             part: r.part,
         }
@@ -221,18 +221,18 @@ impl World {
         let shapes = self.contact_shapes(shape_a, shape_b);
         let event = if touching {
             let key = pair_key(shape_a, shape_b);
-            self.event_log.unpushed.push((key, self.steps));
+            self.events.unpushed.push((key, self.stats.steps));
             Event::ContactBegin { shapes }
         } else {
             Event::ContactEnd { shapes }
         };
-        self.event_log.events.push(event);
+        self.events.events.push(event);
     }
 
     /// Shape slot `s`'s pose in the world.
     pub(super) fn shape_pose(&self, s: u32) -> Transform {
-        let r = &self.shape_records[s as usize];
-        let xf = self.sims[r.body as usize].xf;
+        let r = &self.shapes.records[s as usize];
+        let xf = self.bodies.sims[r.body as usize].xf;
         if r.offset {
             xf.compose(r.from_center)
         } else {
@@ -242,7 +242,7 @@ impl World {
 
     /// The step's first act: last step's events go.
     pub(super) fn clear_events(&mut self) {
-        self.event_log.events.clear();
+        self.events.events.clear();
     }
 
     /// Hits (after the solve, which stored each point's approach speed): a contact that began
@@ -260,19 +260,19 @@ impl World {
         } else {
             u64::MAX
         };
-        let mut candidates = std::mem::take(&mut self.event_log.unpushed);
+        let mut candidates = std::mem::take(&mut self.events.unpushed);
         let mut keep = 0;
         for n in 0..candidates.len() {
             let (key, began) = candidates[n];
-            if self.steps - began > window {
+            if self.stats.steps - began > window {
                 continue;
             }
             // Gone, ended, or already judged (a pair listed twice: its contact was destroyed
             // and made again between steps).
-            let Some(&k) = self.pairs.get(&key) else {
+            let Some(&k) = self.contacts.pairs.get(&key) else {
                 continue;
             };
-            let c = &self.contacts[k as usize];
+            let c = &self.contacts.list[k as usize];
             if !(c.touched && c.hit_pending) {
                 continue;
             }
@@ -298,28 +298,29 @@ impl World {
                 } else {
                     -m.normal
                 };
-                let point = self.sims[c.body_a as usize].xf.p + anchor;
-                self.event_log.events.push(Event::Hit {
+                let point = self.bodies.sims[c.body_a as usize].xf.p + anchor;
+                self.events.events.push(Event::Hit {
                     shapes,
                     point,
                     normal,
                     approach_speed,
                 });
             }
-            self.contacts[k as usize].hit_pending = false;
+            self.contacts.list[k as usize].hit_pending = false;
         }
         candidates.truncate(keep);
-        self.event_log.unpushed = candidates;
+        self.events.unpushed = candidates;
     }
 
     /// Notes the bodies this step moved (the awake set finalize walked).
     pub(super) fn note_moved_bodies(&mut self) {
-        let log = &mut self.event_log;
+        let log = &mut self.events;
         log.moved_bodies.clear();
-        log.moved_bodies.extend(self.moving.iter().map(|&b| BodyId {
-            index: b,
-            generation: self.body_slots.generation(b as usize),
-        }));
+        log.moved_bodies
+            .extend(self.bodies.awake_set.iter().map(|&b| BodyId {
+                index: b,
+                generation: self.bodies.slots.generation(b as usize),
+            }));
     }
 
     /// Starts tracking shape `s` as a sensor (it has no overlaps yet).
@@ -342,31 +343,36 @@ impl World {
         // The tree must hold this step's boxes (the next pair search would refit it anyway).
         self.refresh_tree();
         let mut sensors = std::mem::take(&mut self.sensors);
-        let mut found = std::mem::take(&mut self.event_log.found);
+        let mut found = std::mem::take(&mut self.events.found);
         for (&s, overlaps) in sensors.iter_mut() {
             found.clear();
-            let sensor = &self.shape_records[s as usize];
+            let sensor = &self.shapes.records[s as usize];
             let pose = self.shape_pose(s);
-            let aabb = self.shapes[s as usize].aabb(pose);
-            self.broad_phase.query(&aabb, &self.fat_aabbs, |v| {
-                let r = &self.shape_records[v as usize];
-                if r.body == sensor.body
-                    || r.body == NONE
-                    || r.sensor
-                    || !sensor.filter.should_collide(&r.filter)
-                {
-                    return;
-                }
-                let (a, b) = (&self.shapes[s as usize], &self.shapes[v as usize]);
-                if shapes_overlap(a, self.shape_pose(s), b, self.shape_pose(v)) {
-                    found.push(self.shape_ref(v));
-                }
-            });
+            let aabb = self.shapes.geometry[s as usize].aabb(pose);
+            self.shapes
+                .tree
+                .query(&aabb, &self.shapes.swept_boxes, |v| {
+                    let r = &self.shapes.records[v as usize];
+                    if r.body == sensor.body
+                        || r.body == NONE
+                        || r.sensor
+                        || !sensor.filter.should_collide(&r.filter)
+                    {
+                        return;
+                    }
+                    let (a, b) = (
+                        &self.shapes.geometry[s as usize],
+                        &self.shapes.geometry[v as usize],
+                    );
+                    if shapes_overlap(a, self.shape_pose(s), b, self.shape_pose(v)) {
+                        found.push(self.shape_ref(v));
+                    }
+                });
             found.sort_unstable_by_key(|r| (r.shape.index, r.shape.generation));
             if found != *overlaps {
                 let sensor = self.shape_ref(s);
                 merge_changes(overlaps, &found, |visitor, began| {
-                    self.event_log.events.push(if began {
+                    self.events.events.push(if began {
                         Event::SensorBegin { sensor, visitor }
                     } else {
                         Event::SensorEnd { sensor, visitor }
@@ -376,7 +382,7 @@ impl World {
             }
         }
         self.sensors = sensors;
-        self.event_log.found = found;
+        self.events.found = found;
     }
 }
 

@@ -17,9 +17,9 @@ use crate::solver::{NOT_DYNAMIC, Touching};
 impl World {
     /// The frame (origin and rotation) of body `i`.
     pub(super) fn body_frame(&self, i: usize) -> Transform {
-        let xf = self.sims[i].xf;
+        let xf = self.bodies.sims[i].xf;
         Transform {
-            p: xf.p - xf.q.apply(self.records[i].local_center),
+            p: xf.p - xf.q.apply(self.bodies.records[i].local_center),
             q: xf.q,
         }
     }
@@ -32,12 +32,12 @@ impl World {
         for body in def.bodies() {
             self.slot(body)?;
         }
-        let index = self.joint_slots.next_index() as usize;
+        let index = self.joints.slots.next_index() as usize;
         let frames = |id: BodyId| {
             let i = id.index as usize;
             self.contains_body(id).then(|| JointFrame {
                 frame: self.body_frame(i),
-                dynamic: self.sims[i].kind == BodyKind::Dynamic,
+                dynamic: self.bodies.sims[i].kind == BodyKind::Dynamic,
             })
         };
         def.validate(index, &frames)?;
@@ -75,7 +75,7 @@ impl World {
                 why: "a finite target, hertz > 0, damping ratio >= 0, max force >= 0".into(),
             });
         }
-        if self.sims[i].kind != BodyKind::Dynamic {
+        if self.bodies.sims[i].kind != BodyKind::Dynamic {
             return Err(WorldError::Invalid {
                 what: format!("mouse joint on {body}"),
                 why: "only a dynamic body can be dragged".into(),
@@ -126,15 +126,15 @@ impl World {
     /// it lets them touch. The caller checks the stores afterwards (`debug_validate`).
     pub(super) fn insert_joint(&mut self, joint: Joint) -> JointId {
         self.sync_joints();
-        self.joint_meta_stale = true;
-        let (index, generation, fresh) = self.joint_slots.take();
+        self.joints.meta_stale = true;
+        let (index, generation, fresh) = self.joints.slots.take();
         let (a, b) = (joint.body_a, joint.body_b);
         let keep_apart = !joint.collide_connected;
         let links = joint.links_islands();
         if fresh {
-            self.joints.push(joint);
+            self.joints.list.push(joint);
         } else {
-            self.joints[index as usize] = joint;
+            self.joints.list[index as usize] = joint;
         }
         for body in [a, b] {
             self.wake_body(body);
@@ -143,7 +143,7 @@ impl World {
             self.islands.link(a, b);
         }
         if keep_apart {
-            *self.no_collide.entry(pair_key(a, b)).or_insert(0) += 1;
+            *self.joints.no_collide.entry(pair_key(a, b)).or_insert(0) += 1;
             if self.have_contacts(a, b) {
                 self.remove_contacts_where(|c| pair_key(c.body_a, c.body_b) == pair_key(a, b));
             }
@@ -156,6 +156,7 @@ impl World {
     fn have_contacts(&self, a: u32, b: u32) -> bool {
         let scan = || {
             self.contacts
+                .list
                 .iter()
                 .any(|c| pair_key(c.body_a, c.body_b) == pair_key(a, b))
         };
@@ -163,23 +164,23 @@ impl World {
             self.shapes_of_body(a as usize).count(),
             self.shapes_of_body(b as usize).count(),
         );
-        if na.saturating_mul(nb) > self.contacts.len() {
+        if na.saturating_mul(nb) > self.contacts.list.len() {
             return scan();
         }
         let found = self.shapes_of_body(a as usize).any(|sa| {
             self.shapes_of_body(b as usize)
-                .any(|sb| self.pairs.contains_key(&pair_key(sa, sb)))
+                .any(|sb| self.contacts.pairs.contains_key(&pair_key(sa, sb)))
         });
         debug_assert_eq!(found, scan());
         found
     }
 
     fn is_dynamic(&self, body: u32) -> bool {
-        self.sims[body as usize].kind == BodyKind::Dynamic
+        self.bodies.sims[body as usize].kind == BodyKind::Dynamic
     }
 
     fn joint_slot(&self, id: JointId) -> Result<usize, WorldError> {
-        if self.joint_slots.holds(id.index, id.generation) {
+        if self.joints.slots.holds(id.index, id.generation) {
             Ok(id.index as usize)
         } else {
             Err(WorldError::NoJoint(id))
@@ -199,11 +200,11 @@ impl World {
     /// shapes need not look for new pairs).
     pub(super) fn remove_joint(&mut self, k: usize, gone: impl Fn(u32) -> bool) {
         self.sync_joints();
-        self.joint_meta_stale = true;
-        let joint = self.joints[k].clone();
+        self.joints.meta_stale = true;
+        let joint = self.joints.list[k].clone();
         // The slot keeps an unsolved stand-in until it is reused.
-        self.joints[k].kind = JointKind::Filter;
-        self.joints[k].collide_connected = true;
+        self.joints.list[k].kind = JointKind::Filter;
+        self.joints.list[k].collide_connected = true;
         let (a, b) = (joint.body_a, joint.body_b);
         for body in [a, b] {
             self.wake_body(body);
@@ -213,10 +214,10 @@ impl World {
         }
         if !joint.collide_connected {
             let key = pair_key(a, b);
-            if let Some(n) = self.no_collide.get_mut(&key) {
+            if let Some(n) = self.joints.no_collide.get_mut(&key) {
                 *n -= 1;
                 if *n == 0 {
-                    self.no_collide.remove(&key);
+                    self.joints.no_collide.remove(&key);
                 }
             }
             // Their shapes look for each other again.
@@ -226,21 +227,21 @@ impl World {
                 }
             }
         }
-        self.joint_slots.release(k as u32);
+        self.joints.slots.release(k as u32);
     }
 
     /// Joints in the world.
     pub fn joint_count(&self) -> usize {
-        self.joint_slots.live()
+        self.joints.slots.live()
     }
 
     /// Every joint's id, in slot order.
     pub fn joint_ids(&self) -> impl Iterator<Item = JointId> + '_ {
-        (0..self.joints.len())
-            .filter(|&k| self.joint_slots.is_alive(k))
+        (0..self.joints.list.len())
+            .filter(|&k| self.joints.slots.is_alive(k))
             .map(|k| JointId {
                 index: k as u32,
-                generation: self.joint_slots.generation(k),
+                generation: self.joints.slots.generation(k),
             })
     }
 
@@ -255,31 +256,33 @@ impl World {
         let k = self.joint_slot(id)?;
         self.sync_joints();
         // A limit, motor or spring added or taken away changes whether it can join a chain.
-        self.joint_meta_stale = true;
-        let (a, b) = (self.joints[k].body_a, self.joints[k].body_b);
+        self.joints.meta_stale = true;
+        let (a, b) = (self.joints.list[k].body_a, self.joints.list[k].body_b);
         self.wake_body(a);
         self.wake_body(b);
-        Ok(&mut self.joints[k].kind)
+        Ok(&mut self.joints.list[k].kind)
     }
 
     /// A joint's two bodies, A and B (a mouse joint names its dragged body twice).
     pub fn joint_bodies(&self, id: JointId) -> Result<[BodyId; 2], WorldError> {
-        let j = &self.joints[self.joint_slot(id)?];
+        let j = &self.joints.list[self.joint_slot(id)?];
         Ok([j.body_a, j.body_b].map(|b| BodyId {
             index: b,
-            generation: self.body_slots.generation(b as usize),
+            generation: self.bodies.slots.generation(b as usize),
         }))
     }
 
     /// The force (N, on body B) and torque (N·m) the joint applied in the last step.
     pub fn joint_reaction(&self, id: JointId) -> Result<(Vec2, f32), WorldError> {
-        Ok(self.current(self.joint_slot(id)?).reaction(self.last_inv_h))
+        Ok(self
+            .current(self.joint_slot(id)?)
+            .reaction(self.joints.last_inv_h))
     }
 
     /// The joint's anchors in the world now: on body A and on body B (for a mouse joint,
     /// the target and the dragged point).
     pub fn joint_anchors(&self, id: JointId) -> Result<[Vec2; 2], WorldError> {
-        let j = &self.joints[self.joint_slot(id)?];
+        let j = &self.joints.list[self.joint_slot(id)?];
         let on_b = self.body_frame(j.body_b as usize).apply(j.local_b.p);
         let on_a = match &j.kind {
             JointKind::Mouse(m) => m.target,
@@ -292,30 +295,31 @@ impl World {
     /// less those that chains take (reads the joints and the bodies' kinds and awake flags;
     /// writes the joint list and the chains).
     pub(super) fn list_awake_joints(&mut self) {
-        self.joint_list.clear();
-        if self.joint_slots.live() == 0 {
-            self.chain_list.clear();
-            self.chain_ranges.clear();
+        self.joints.awake.clear();
+        if self.joints.slots.live() == 0 {
+            self.joints.chain_list.clear();
+            self.joints.chain_ranges.clear();
             return;
         }
         // What the walk reads of each joint, kept compact (a joint is 200 bytes: reading each
         // one's kind and bodies every step missed the cache on half of `joint_grid`'s list).
-        if self.joint_meta_stale {
-            self.joint_meta.clear();
-            self.joint_meta
-                .extend(self.joints.iter().enumerate().map(|(k, j)| JointMeta {
+        if self.joints.meta_stale {
+            self.joints.meta.clear();
+            self.joints
+                .meta
+                .extend(self.joints.list.iter().enumerate().map(|(k, j)| JointMeta {
                     bodies: [j.body_a, j.body_b],
-                    solved: self.joint_slots.is_alive(k) && j.solved(),
+                    solved: self.joints.slots.is_alive(k) && j.solved(),
                     mouse: matches!(j.kind, JointKind::Mouse(_)),
                     chain: chain::eligible(j),
                 }));
-            self.joint_meta_stale = false;
+            self.joints.meta_stale = false;
         }
         let awake_dynamic = |i: u32| {
             let i = i as usize;
-            self.sims[i].kind == BodyKind::Dynamic && self.awake[i]
+            self.bodies.sims[i].kind == BodyKind::Dynamic && self.bodies.awake[i]
         };
-        for (k, m) in self.joint_meta.iter().enumerate() {
+        for (k, m) in self.joints.meta.iter().enumerate() {
             if !m.solved {
                 continue;
             }
@@ -325,13 +329,13 @@ impl World {
                 continue;
             }
             let side = |i: u32| {
-                if self.solver_bodies[i as usize].dynamic {
+                if self.bodies.masses[i as usize].dynamic {
                     i
                 } else {
                     NOT_DYNAMIC
                 }
             };
-            self.joint_list.push(Touching {
+            self.joints.awake.push(Touching {
                 contact: k as u32,
                 dynamic: [if mouse { NOT_DYNAMIC } else { side(a) }, side(b)],
             });
@@ -343,46 +347,47 @@ impl World {
     /// again only when the awake eligible joints differ from last step's.
     fn find_chains(&mut self) {
         // Into a kept buffer: a steady step allocates nothing.
-        let mut links = std::mem::take(&mut self.chain_scratch);
+        let mut links = std::mem::take(&mut self.joints.chain_scratch);
         links.clear();
         links.extend(
-            self.joint_list
+            self.joints
+                .awake
                 .iter()
-                .filter(|t| self.joint_meta[t.contact as usize].chain)
+                .filter(|t| self.joints.meta[t.contact as usize].chain)
                 .map(|t| Link {
                     slot: t.contact,
                     dynamic: t.dynamic,
                 }),
         );
-        let same = links.len() == self.chain_links.len()
+        let same = links.len() == self.joints.chain_links.len()
             && links
                 .iter()
-                .zip(&self.chain_links)
+                .zip(&self.joints.chain_links)
                 .all(|(a, b)| a.slot == b.slot && a.dynamic == b.dynamic);
         if !same {
-            let (order, ranges) = chain::find(&links, self.sims.len());
-            self.chain_list = order;
-            self.chain_ranges = ranges;
-            std::mem::swap(&mut self.chain_links, &mut links);
+            let (order, ranges) = chain::find(&links, self.bodies.sims.len());
+            self.joints.chain_list = order;
+            self.joints.chain_ranges = ranges;
+            std::mem::swap(&mut self.joints.chain_links, &mut links);
         }
-        self.chain_scratch = links;
-        if self.chain_list.is_empty() {
+        self.joints.chain_scratch = links;
+        if self.joints.chain_list.is_empty() {
             return;
         }
-        let mut in_chain = std::mem::take(&mut self.chain_flags);
+        let mut in_chain = std::mem::take(&mut self.joints.chain_flags);
         in_chain.clear();
-        in_chain.resize(self.joints.len(), false);
-        for &slot in &self.chain_list {
+        in_chain.resize(self.joints.list.len(), false);
+        for &slot in &self.joints.chain_list {
             in_chain[slot as usize] = true;
         }
-        self.joint_list.retain(|t| !in_chain[t.contact as usize]);
-        self.chain_flags = in_chain;
+        self.joints.awake.retain(|t| !in_chain[t.contact as usize]);
+        self.joints.chain_flags = in_chain;
     }
 
     /// After the colouring: copies the awake joints into the solver in stage order and
     /// prepares them there (reads bodies' poses and masses; each copy written once).
     pub(super) fn prepare_solver_joints(&mut self, h: f32, spread: Spread<'_>, min: usize) {
-        if self.joint_list.is_empty() && self.chain_list.is_empty() {
+        if self.joints.awake.is_empty() && self.joints.chain_list.is_empty() {
             return;
         }
         let ctx = JointContext {
@@ -390,16 +395,17 @@ impl World {
             inv_h: 1.0 / h,
             warm_starting: self.settings.warm_starting,
         };
-        if self.joint_copies {
+        if self.joints.solver_holds_impulses {
             // The order changed (or not): the solver tells; the old copies go back first
             // when it will copy afresh.
             if self.solver.joint_order_changed() {
-                self.solver.store_joints(&mut self.joints, spread, min);
-                self.joint_copies = false;
+                self.solver.store_joints(&mut self.joints.list, spread, min);
+                self.joints.solver_holds_impulses = false;
             }
         }
-        let copies = self.joint_copies;
-        let (sims, records, masses) = (&self.sims, &self.records, &self.solver_bodies);
+        let copies = self.joints.solver_holds_impulses;
+        let (sims, records, masses) =
+            (&self.bodies.sims, &self.bodies.records, &self.bodies.masses);
         let body = |i: u32| {
             let i = i as usize;
             JointBody {
@@ -412,28 +418,28 @@ impl World {
             }
         };
         self.solver
-            .prepare_joints(&self.joints, copies, &body, &ctx, spread, min);
-        self.joint_copies = true;
+            .prepare_joints(&self.joints.list, copies, &body, &ctx, spread, min);
+        self.joints.solver_holds_impulses = true;
     }
 
     /// Writes the solver's live joint copies back, so the world's joints are current (before
     /// the world reads them whole or edits one).
     pub(super) fn sync_joints(&mut self) {
-        if self.joint_copies {
+        if self.joints.solver_holds_impulses {
             self.solver
-                .store_joints(&mut self.joints, Spread::INLINE, usize::MAX);
-            self.joint_copies = false;
+                .store_joints(&mut self.joints.list, Spread::INLINE, usize::MAX);
+            self.joints.solver_holds_impulses = false;
         }
     }
 
     /// A joint as it is now: the solver's live copy if it holds one, else the world's.
     pub(super) fn current(&self, k: usize) -> &Joint {
-        if self.joint_copies
+        if self.joints.solver_holds_impulses
             && let Some(j) = self.solver.joint_copy(k as u32)
         {
             return j;
         }
-        &self.joints[k]
+        &self.joints.list[k]
     }
 }
 

@@ -19,6 +19,7 @@ mod settings;
 mod sleep;
 mod snapshot;
 mod step;
+mod stores;
 mod threads;
 mod validate;
 
@@ -26,28 +27,21 @@ mod validate;
 mod tests;
 
 use glam::Vec2;
-use rustc_hash::FxHashMap;
 
 use crate::collision::Manifold;
-use crate::collision::broad_phase::BroadPhase;
-use crate::crew::Crew;
 use crate::error::SceneError;
-use crate::id::{BodyId, JointId, ShapeId, Slots};
+use crate::id::{BodyId, JointId, ShapeId};
 use crate::island::Islands;
-use crate::joint::Joint;
 use crate::math::{Rot, Transform};
-use crate::profile::StepProfile;
 use crate::scene::{BodyKind, Filter, Limits, SceneDef};
 use crate::shape::{Aabb, Shape};
-use crate::solver::contact_solver::BodyState;
-use crate::solver::{
-    BodyMotion, ContactInput, NOT_DYNAMIC, Solver, SolverBody, SolverContact, Touching,
-};
+use crate::solver::{ContactInput, NOT_DYNAMIC, Solver, SolverBody, SolverContact};
 
 pub use events::{BodyMove, Event, EventCursor, ShapeRef};
 pub use query::{QueryFilter, RayHit};
 pub use settings::{StepSettings, WideThresholds};
 pub use snapshot::WorldSnapshot;
+use stores::{Bodies, Contacts, Joints, Shapes, Stats, Sweeps, Workers};
 pub use threads::{SpawnWorker, default_thread_count, set_thread_source};
 use threads::{THREAD_SOURCE, start_crew};
 
@@ -312,119 +306,22 @@ fn pair_key(a: u32, b: u32) -> u64 {
 /// A 2D rigid-body world.
 pub struct World {
     settings: StepSettings,
-    // Bodies, by slot.
-    body_slots: Slots,
-    sims: Vec<BodySim>,
-    states: Vec<BodyState>,
-    records: Vec<BodyRecord>,
-    solver_bodies: Vec<SolverBody>,
-    motion: Vec<BodyMotion>,
-    /// Awake: kinematic bodies and awake dynamic ones (never static ones or free slots).
-    awake: Vec<bool>,
-    /// The awake set's bodies (Box2D's awake solver set, as a list of slots): every body
-    /// whose `motion.moves`, ascending. The body stages walk it, so a sleeping body costs
-    /// them nothing. Rebuilt at the next step when `moving_stale`.
-    moving: Vec<u32>,
-    moving_stale: bool,
-    /// Kinematic bodies in the world (their motion keeps what they touch awake).
-    kinematic_count: usize,
-    // Shapes, by slot.
-    shape_slots: Slots,
-    shapes: Vec<Shape>,
-    shape_records: Vec<ShapeRecord>,
-    /// Each shape's body (a compact copy of `ShapeRecord::body` for the broad phase).
-    shape_body: Vec<u32>,
-    /// Each shape's fat box, swept along its body's velocity over a step: the broad phase's
-    /// proxies. A pair with a static body needs these to overlap, so that a fast body meets
-    /// a wall a step early and its speculative contact stops it (tumble has no time of
-    /// impact yet).
-    fat_aabbs: Vec<Aabb>,
-    /// Each shape's fat box without the sweep along its velocity. A pair of two moving
-    /// bodies needs these to overlap too (Box2D's pairs: fat boxes, no sweep): bodies that
-    /// fall side by side then make no pair. A shape of a static body or a bullet has
-    /// [`Aabb::EVERYWHERE`], so its pairs go by the swept boxes alone.
-    core_aabbs: Vec<Aabb>,
-    /// Proxies whose fat or core box changed since the last pair search.
-    moved: Vec<u32>,
-    moved_flags: Vec<bool>,
-    /// The proxies the pair search just took from `moved`: their flags stay set until the
-    /// narrow phase has retested their contacts' boxes, then are cleared (the buffers of
-    /// the two lists take turns, so a steady step allocates nothing).
-    moved_done: Vec<u32>,
-    /// Scratch: each moved proxy's place in `moved` (the tree walk's creation order).
-    moved_rank: Vec<u32>,
-    /// A proxy was added or removed: the tree must be rebuilt.
-    proxies_changed: bool,
-    tree_dirty: bool,
-    broad_phase: BroadPhase,
-    // Contacts, in the deterministic order the solver sees them.
-    contacts: Vec<Contact>,
-    /// One per contact, in the same order.
-    contact_keys: Vec<ContactKey>,
-    /// The awake set's contacts: every contact not `frozen`, ascending. While an island
-    /// sleeps, the contact stages walk it instead of every contact. Rebuilt when needed
-    /// once `awake_contacts_stale`.
-    awake_contacts: Vec<u32>,
-    awake_contacts_stale: bool,
-    pairs: FxHashMap<u64, u32>,
-    islands: Islands,
-    guarded_last_step: usize,
-    /// Every body the guard has stopped, over the world's whole life (snapshots keep it).
-    non_finite_bodies: u64,
-    solver: Solver,
-    /// Indices of this step's touching contacts, in contact order (reused).
-    touching: Vec<Touching>,
-    /// The threads that help the caller's with a wide step; `None` at one thread, and where
-    /// the platform has no threads (see [`set_thread_source`]): every step is then inline.
-    crew: Option<std::sync::Arc<Crew>>,
-    threads: usize,
+    /// How much work a stage needs before it is split over the threads.
     wide: WideThresholds,
-    profile: StepProfile,
-    steps: u64,
-    speed_caps: u64,
-    profile_recycled: usize,
-    joint_slots: Slots,
-    /// Joints by slot (a free slot holds its last joint, unsolved).
-    joints: Vec<Joint>,
-    /// Pairs of bodies (by `pair_key`) that joints keep from touching, with how many do.
-    no_collide: FxHashMap<u64, u32>,
-    /// This step's awake joints, for the colouring.
-    joint_list: Vec<Touching>,
-    /// Last step's substep rate, for the joints' reaction forces.
-    last_inv_h: f32,
-    /// This step's chains of hinges (slots in path order) and each chain's range; their
-    /// joints are not in `joint_list`.
-    chain_list: Vec<u32>,
-    chain_ranges: Vec<std::ops::Range<usize>>,
-    /// The eligible joints the chains were found among (searched again when they change),
-    /// and a per-slot scratch flag.
-    chain_links: Vec<crate::joint::chain::Link>,
-    chain_scratch: Vec<crate::joint::chain::Link>,
-    chain_flags: Vec<bool>,
-    /// The solver holds the awake joints' live state (impulses): `joints` is stale for them
-    /// until `sync_joints` (see `Solver::prepare_joints`).
-    joint_copies: bool,
-    /// Each joint slot's bodies and kind flags, for the step's walk; rebuilt when a joint is
-    /// made, destroyed or edited.
-    joint_meta: Vec<joints::JointMeta>,
-    joint_meta_stale: bool,
+    bodies: Bodies,
+    shapes: Shapes,
+    contacts: Contacts,
+    joints: Joints,
+    islands: Islands,
+    /// The solver's per-step scratch: constraints in colour order, lanes, joint copies.
+    solver: Solver,
     /// The last step's events (and those made since), and what gathering them needs.
-    event_log: events::EventLog,
+    events: events::EventLog,
     /// Each sensor shape's overlaps after the last step.
     sensors: events::SensorOverlaps,
-    /// Continuous collision's kept buffers: each fast body's pose at the step's start (by
-    /// slot) and this step's fast bodies.
-    sweep_starts: Vec<Transform>,
-    fast_bodies: Vec<u32>,
-    /// Each fast body's time of impact in this pass of continuous collision, by its place in
-    /// the list of fast bodies (a kept buffer).
-    sweep_impacts: Vec<f32>,
-    /// Bodies continuous collision moved back this step (for the profile).
-    profile_rewound: usize,
-    /// A tree of the static shapes alone, which a fast body is swept against (Box2D keeps a
-    /// tree per body type): rebuilt when a static shape is added, removed or moved.
-    static_tree: BroadPhase,
-    static_tree_stale: bool,
+    sweeps: Sweeps,
+    stats: Stats,
+    workers: Workers,
 }
 
 impl World {
@@ -433,67 +330,35 @@ impl World {
         let threads = default_thread_count();
         World {
             settings,
-            body_slots: Slots::default(),
-            sims: Vec::new(),
-            states: Vec::new(),
-            records: Vec::new(),
-            solver_bodies: Vec::new(),
-            motion: Vec::new(),
-            awake: Vec::new(),
-            moving: Vec::new(),
-            moving_stale: true,
-            kinematic_count: 0,
-            shape_slots: Slots::default(),
-            shapes: Vec::new(),
-            shape_records: Vec::new(),
-            shape_body: Vec::new(),
-            fat_aabbs: Vec::new(),
-            core_aabbs: Vec::new(),
-            moved: Vec::new(),
-            moved_flags: Vec::new(),
-            moved_done: Vec::new(),
-            moved_rank: Vec::new(),
-            proxies_changed: true,
-            tree_dirty: true,
-            broad_phase: BroadPhase::default(),
-            contacts: Vec::new(),
-            contact_keys: Vec::new(),
-            awake_contacts: Vec::new(),
-            awake_contacts_stale: true,
-            pairs: FxHashMap::default(),
-            islands: Islands::default(),
-            guarded_last_step: 0,
-            non_finite_bodies: 0,
-            solver: Solver::new(),
-            touching: Vec::new(),
-            crew: start_crew(threads),
-            threads,
             wide: WideThresholds::default(),
-            profile: StepProfile::default(),
-            steps: 0,
-            speed_caps: 0,
-            profile_recycled: 0,
-            joint_slots: Slots::default(),
-            joints: Vec::new(),
-            no_collide: FxHashMap::default(),
-            joint_list: Vec::new(),
-            last_inv_h: 0.0,
-            chain_list: Vec::new(),
-            chain_ranges: Vec::new(),
-            chain_links: Vec::new(),
-            chain_scratch: Vec::new(),
-            chain_flags: Vec::new(),
-            joint_copies: false,
-            joint_meta: Vec::new(),
-            joint_meta_stale: true,
-            event_log: events::EventLog::default(),
+            bodies: Bodies {
+                awake_set_stale: true,
+                ..Bodies::default()
+            },
+            shapes: Shapes {
+                proxies_changed: true,
+                tree_dirty: true,
+                static_tree_stale: true,
+                ..Shapes::default()
+            },
+            contacts: Contacts {
+                awake_stale: true,
+                ..Contacts::default()
+            },
+            joints: Joints {
+                meta_stale: true,
+                ..Joints::default()
+            },
+            islands: Islands::default(),
+            solver: Solver::new(),
+            events: events::EventLog::default(),
             sensors: events::SensorOverlaps::new(),
-            sweep_starts: Vec::new(),
-            fast_bodies: Vec::new(),
-            sweep_impacts: Vec::new(),
-            profile_rewound: 0,
-            static_tree: BroadPhase::default(),
-            static_tree_stale: true,
+            sweeps: Sweeps::default(),
+            stats: Stats::default(),
+            workers: Workers {
+                crew: start_crew(threads),
+                threads,
+            },
         }
     }
 
@@ -532,11 +397,11 @@ impl World {
     }
 
     fn reserve(&mut self, n: usize) {
-        self.shapes.reserve(n);
-        self.sims.reserve(n);
-        self.states.reserve(n);
-        self.fat_aabbs.reserve(n);
-        self.core_aabbs.reserve(n);
+        self.shapes.geometry.reserve(n);
+        self.bodies.sims.reserve(n);
+        self.bodies.states.reserve(n);
+        self.shapes.swept_boxes.reserve(n);
+        self.shapes.unswept_boxes.reserve(n);
     }
 
     /// The step's settings.
@@ -557,11 +422,11 @@ impl World {
         } else {
             threads.max(1)
         };
-        if threads != self.threads {
+        if threads != self.workers.threads {
             // The old crew's threads are told to exit before the new ones start.
-            self.crew = None;
-            self.crew = start_crew(threads);
-            self.threads = threads;
+            self.workers.crew = None;
+            self.workers.crew = start_crew(threads);
+            self.workers.threads = threads;
         }
     }
 
@@ -586,6 +451,6 @@ impl World {
 
     /// Worker threads the step uses.
     pub fn thread_count(&self) -> usize {
-        self.threads
+        self.workers.threads
     }
 }

@@ -104,13 +104,13 @@ impl World {
     /// Whether the tree holds every live proxy (no shape added or removed since it was
     /// built).
     fn tree_holds_every_proxy(&self) -> bool {
-        !self.proxies_changed
+        !self.shapes.proxies_changed
     }
 
     /// Whether shape slot `s` is live and `filter` sees it.
     fn seen(&self, s: u32, filter: &QueryFilter) -> bool {
-        let r = &self.shape_records[s as usize];
-        self.shape_slots.is_alive(s as usize) && filter.sees(&r.filter, r.sensor)
+        let r = &self.shapes.records[s as usize];
+        self.shapes.slots.is_alive(s as usize) && filter.sees(&r.filter, r.sensor)
     }
 
     /// Calls `f(shape slot)` for every shape `filter` sees whose fat box overlaps `aabb`,
@@ -123,8 +123,8 @@ impl World {
     ) {
         let mut going = true;
         for s in self.untreed_after_tree(|tree| {
-            tree.query(aabb, &self.fat_aabbs, |s| {
-                if going && !self.moved_flags[s as usize] && self.seen(s, filter) {
+            tree.query(aabb, &self.shapes.swept_boxes, |s| {
+                if going && !self.shapes.moved_flags[s as usize] && self.seen(s, filter) {
                     going = f(s);
                 }
             });
@@ -132,7 +132,7 @@ impl World {
             if !going {
                 return;
             }
-            if self.fat_aabbs[s as usize].overlaps(aabb) && self.seen(s, filter) {
+            if self.shapes.swept_boxes[s as usize].overlaps(aabb) && self.seen(s, filter) {
                 going = f(s);
             }
         }
@@ -147,10 +147,10 @@ impl World {
         walk: impl FnOnce(&BroadPhase),
     ) -> Box<dyn Iterator<Item = u32> + '_> {
         if self.tree_holds_every_proxy() {
-            walk(&self.broad_phase);
-            Box::new(self.moved.iter().copied())
+            walk(&self.shapes.tree);
+            Box::new(self.shapes.moved_proxies.iter().copied())
         } else {
-            Box::new(0..self.shapes.len() as u32)
+            Box::new(0..self.shapes.geometry.len() as u32)
         }
     }
 
@@ -180,7 +180,7 @@ impl World {
                 translation: pose.q.apply_inv(translation),
                 max_fraction,
             };
-            let Some(hit) = ray_cast(&self.shapes[s as usize], &local) else {
+            let Some(hit) = ray_cast(&self.shapes.geometry[s as usize], &local) else {
                 return max_fraction;
             };
             let value = f(&RayHit {
@@ -197,9 +197,9 @@ impl World {
         };
         let mut max_fraction = 1.0f32;
         let rest = self.untreed_after_tree(|tree| {
-            let moved = &self.moved_flags;
+            let moved = &self.shapes.moved_flags;
             tree.ray_cast(
-                &self.fat_aabbs,
+                &self.shapes.swept_boxes,
                 origin,
                 translation,
                 max_fraction,
@@ -217,7 +217,7 @@ impl World {
                 return;
             }
             if ray_may_cross(
-                &self.fat_aabbs[s as usize],
+                &self.shapes.swept_boxes[s as usize],
                 origin,
                 translation,
                 max_fraction,
@@ -313,7 +313,7 @@ impl World {
         };
         let mut max_fraction = 1.0f32;
         for s in candidates {
-            let other = Proxy::of(&self.shapes[s as usize], Transform::IDENTITY);
+            let other = Proxy::of(&self.shapes.geometry[s as usize], Transform::IDENTITY);
             let other_pose = self.shape_pose(s);
             let hit = match time_of_impact(
                 &other,
@@ -379,7 +379,7 @@ impl World {
         mut f: impl FnMut(ShapeRef) -> bool,
     ) {
         self.shapes_in_box(aabb, filter, |s| {
-            let tight = self.shapes[s as usize].aabb(self.shape_pose(s));
+            let tight = self.shapes.geometry[s as usize].aabb(self.shape_pose(s));
             !tight.overlaps(aabb) || f(self.shape_ref(s))
         });
     }
@@ -398,7 +398,7 @@ impl World {
         };
         self.shapes_in_box(&at, filter, |s| {
             let local = self.shape_pose(s).apply_inv(point);
-            !self.shapes[s as usize].contains(local) || f(self.shape_ref(s))
+            !self.shapes.geometry[s as usize].contains(local) || f(self.shape_ref(s))
         });
     }
 
@@ -414,8 +414,12 @@ impl World {
     ) {
         let aabb = shape.aabb(pose);
         self.shapes_in_box(&aabb, filter, |s| {
-            !shapes_overlap(shape, pose, &self.shapes[s as usize], self.shape_pose(s))
-                || f(self.shape_ref(s))
+            !shapes_overlap(
+                shape,
+                pose,
+                &self.shapes.geometry[s as usize],
+                self.shape_pose(s),
+            ) || f(self.shape_ref(s))
         });
     }
 }

@@ -14,39 +14,40 @@ use crate::scene::BodyKind;
 impl World {
     /// Live bodies.
     pub fn body_count(&self) -> usize {
-        self.body_slots.live()
+        self.bodies.slots.live()
     }
 
     /// Body slots ever made, live or free: one past the largest `BodyId::index` in use.
     pub(crate) fn body_slot_count(&self) -> usize {
-        self.sims.len()
+        self.bodies.sims.len()
     }
 
     /// Whether `id` names a live body of this world.
     pub fn contains_body(&self, id: BodyId) -> bool {
-        self.body_slots.holds(id.index, id.generation)
+        self.bodies.slots.holds(id.index, id.generation)
     }
 
     /// The id of the body in slot `index`, if it holds one.
     pub(crate) fn body_id(&self, index: usize) -> Option<BodyId> {
-        self.body_slots.is_alive(index).then(|| BodyId {
+        self.bodies.slots.is_alive(index).then(|| BodyId {
             index: index as u32,
-            generation: self.body_slots.generation(index),
+            generation: self.bodies.slots.generation(index),
         })
     }
 
     /// Every live body's id, in slot order (a scene's bodies in the file's order).
     pub fn body_ids(&self) -> impl Iterator<Item = BodyId> + '_ {
-        (0..self.sims.len()).filter_map(|i| self.body_id(i))
+        (0..self.bodies.sims.len()).filter_map(|i| self.body_id(i))
     }
 
     /// Every live body with its state, in slot order.
     pub fn bodies(&self) -> impl Iterator<Item = (BodyId, BodyView)> + '_ {
-        (0..self.sims.len()).filter_map(|i| self.body_id(i).map(|id| (id, self.body_view(i))))
+        (0..self.bodies.sims.len())
+            .filter_map(|i| self.body_id(i).map(|id| (id, self.body_view(i))))
     }
 
     pub(super) fn slot(&self, id: BodyId) -> Result<usize, WorldError> {
-        if self.body_slots.holds(id.index, id.generation) {
+        if self.bodies.slots.holds(id.index, id.generation) {
             Ok(id.index as usize)
         } else {
             Err(WorldError::NoBody(id))
@@ -54,7 +55,7 @@ impl World {
     }
 
     pub(super) fn shape_slot(&self, id: ShapeId) -> Result<usize, WorldError> {
-        if self.shape_slots.holds(id.index, id.generation) {
+        if self.shapes.slots.holds(id.index, id.generation) {
             Ok(id.index as usize)
         } else {
             Err(WorldError::NoShape(id))
@@ -69,9 +70,9 @@ impl World {
     /// The state of the body in slot `index` (a free slot reads as a static body at rest
     /// where it was).
     pub(crate) fn body_view(&self, index: usize) -> BodyView {
-        let sim = &self.sims[index];
-        let st = &self.states[index];
-        let c = self.records[index].local_center;
+        let sim = &self.bodies.sims[index];
+        let st = &self.bodies.states[index];
+        let c = self.bodies.records[index].local_center;
         BodyView {
             position: sim.xf.p,
             origin: if c == Vec2::ZERO {
@@ -84,19 +85,19 @@ impl World {
             linear_velocity: st.v,
             angular_velocity: st.w,
             kind: sim.kind,
-            awake: self.awake[index],
-            bullet: self.records[index].bullet,
+            awake: self.bodies.awake[index],
+            bullet: self.bodies.records[index].bullet,
         }
     }
 
     /// Whether a body is awake (kinematic bodies always are, static bodies never).
     pub fn is_awake(&self, id: BodyId) -> Result<bool, WorldError> {
-        self.slot(id).map(|i| self.awake[i])
+        self.slot(id).map(|i| self.bodies.awake[i])
     }
 
     /// Whether a body is a bullet (see [`World::set_bullet`]).
     pub fn is_bullet(&self, id: BodyId) -> Result<bool, WorldError> {
-        self.slot(id).map(|i| self.records[i].bullet)
+        self.slot(id).map(|i| self.bodies.records[i].bullet)
     }
 
     /// A body's mass (kg); zero for static and kinematic bodies.
@@ -105,7 +106,7 @@ impl World {
     }
 
     fn slot_mass(&self, index: usize) -> f32 {
-        let inv = self.solver_bodies[index].inv_mass;
+        let inv = self.bodies.masses[index].inv_mass;
         if inv > 0.0 { 1.0 / inv } else { 0.0 }
     }
 
@@ -116,13 +117,13 @@ impl World {
     }
 
     fn slot_inertia(&self, index: usize) -> f32 {
-        let inv = self.solver_bodies[index].inv_inertia;
+        let inv = self.bodies.masses[index].inv_inertia;
         if inv > 0.0 { 1.0 / inv } else { 0.0 }
     }
 
     /// A body's centre of mass in its own frame.
     pub fn local_center(&self, id: BodyId) -> Result<Vec2, WorldError> {
-        self.slot(id).map(|i| self.records[i].local_center)
+        self.slot(id).map(|i| self.bodies.records[i].local_center)
     }
 
     /// A body's island (`None` for static and kinematic bodies): a number shared by the
@@ -149,7 +150,7 @@ impl World {
 
     /// Awake bodies (kinematic and awake dynamic ones).
     pub fn awake_body_count(&self) -> usize {
-        self.awake.iter().filter(|a| **a).count()
+        self.bodies.awake.iter().filter(|a| **a).count()
     }
 }
 
@@ -157,12 +158,12 @@ impl World {
 impl World {
     /// Live shapes.
     pub fn shape_count(&self) -> usize {
-        self.shape_slots.live()
+        self.shapes.slots.live()
     }
 
     /// Whether `id` names a live shape of this world.
     pub fn contains_shape(&self, id: ShapeId) -> bool {
-        self.shape_slots.holds(id.index, id.generation)
+        self.shapes.slots.holds(id.index, id.generation)
     }
 
     /// A shape: its geometry, its pose in the world, its body.
@@ -182,19 +183,19 @@ impl World {
     }
 
     pub(super) fn shape_view(&self, s: usize) -> ShapeView<'_> {
-        let r = &self.shape_records[s];
+        let r = &self.shapes.records[s];
         let b = r.body as usize;
-        let xf = self.sims[b].xf;
+        let xf = self.bodies.sims[b].xf;
         ShapeView {
             id: ShapeId {
                 index: s as u32,
-                generation: self.shape_slots.generation(s),
+                generation: self.shapes.slots.generation(s),
             },
             body: BodyId {
                 index: r.body,
-                generation: self.body_slots.generation(b),
+                generation: self.bodies.slots.generation(b),
             },
-            shape: &self.shapes[s],
+            shape: &self.shapes.geometry[s],
             transform: if r.offset {
                 xf.compose(r.from_center)
             } else {
@@ -202,20 +203,20 @@ impl World {
             },
             part: r.part as usize,
             sensor: r.sensor,
-            fat_aabb: self.fat_aabbs[s],
+            fat_aabb: self.shapes.swept_boxes[s],
         }
     }
 
     /// Every live shape, in slot order.
     pub fn shapes(&self) -> impl Iterator<Item = ShapeView<'_>> + '_ {
-        (0..self.shapes.len())
-            .filter(|&s| self.shape_slots.is_alive(s))
+        (0..self.shapes.geometry.len())
+            .filter(|&s| self.shapes.slots.is_alive(s))
             .map(|s| self.shape_view(s))
     }
 
     /// The broad phase's tree, for debug drawing.
     pub fn broad_phase(&self) -> &BroadPhase {
-        &self.broad_phase
+        &self.shapes.tree
     }
 }
 
@@ -223,21 +224,21 @@ impl World {
 impl World {
     /// Contacts (pairs of shapes whose fat boxes overlap, touching or not).
     pub fn contact_count(&self) -> usize {
-        self.contacts.len()
+        self.contacts.list.len()
     }
 
     /// Every contact, in the deterministic order the solver sees them.
     pub fn contacts(&self) -> impl Iterator<Item = ContactView<'_>> {
-        self.contacts.iter().map(|c| {
-            let centre = self.sims[c.body_a as usize].xf.p;
+        self.contacts.list.iter().map(|c| {
+            let centre = self.bodies.sims[c.body_a as usize].xf.p;
             let m = &c.manifold;
             let body = |b: u32| BodyId {
                 index: b,
-                generation: self.body_slots.generation(b as usize),
+                generation: self.bodies.slots.generation(b as usize),
             };
             let shape = |s: u32| ShapeId {
                 index: s,
-                generation: self.shape_slots.generation(s as usize),
+                generation: self.shapes.slots.generation(s as usize),
             };
             ContactView {
                 body_a: body(c.body_a),
@@ -257,12 +258,12 @@ impl World {
 
     /// Steps taken so far.
     pub fn step_count(&self) -> u64 {
-        self.steps
+        self.stats.steps
     }
 
     /// How often a body's speed was clamped to the caps, over all steps.
     pub fn speed_cap_count(&self) -> u64 {
-        self.speed_caps
+        self.stats.speed_caps
     }
 
     /// How many times, over the world's whole life (kept by [`World::snapshot`]), the
@@ -272,7 +273,7 @@ impl World {
     /// every "stays finite" check should require it. [`StepProfile::non_finite`] counts the
     /// last step only.
     pub fn non_finite_bodies(&self) -> u64 {
-        self.non_finite_bodies
+        self.stats.non_finite_bodies
     }
 
     /// Whether every body's pose and velocities are finite numbers now. The step's
@@ -280,22 +281,26 @@ impl World {
     /// this cannot fail after a step: checks of a run require
     /// [`World::non_finite_bodies`] to be 0 as well.
     pub fn is_finite(&self) -> bool {
-        self.sims.iter().zip(&self.states).all(|(sim, st)| {
-            sim.xf.p.is_finite()
-                && sim.xf.q.c.is_finite()
-                && sim.xf.q.s.is_finite()
-                && st.v.is_finite()
-                && st.w.is_finite()
-        })
+        self.bodies
+            .sims
+            .iter()
+            .zip(&self.bodies.states)
+            .all(|(sim, st)| {
+                sim.xf.p.is_finite()
+                    && sim.xf.q.c.is_finite()
+                    && sim.xf.q.s.is_finite()
+                    && st.v.is_finite()
+                    && st.w.is_finite()
+            })
     }
 
     /// Kinetic energy of the dynamic bodies, translational and rotational (J), summed in f64:
     /// what the energy checks of the tests, the report and the viewer measure.
     pub fn kinetic_energy(&self) -> f64 {
         (0..self.body_slot_count())
-            .filter(|&i| self.sims[i].kind == BodyKind::Dynamic)
+            .filter(|&i| self.bodies.sims[i].kind == BodyKind::Dynamic)
             .map(|i| {
-                let st = &self.states[i];
+                let st = &self.bodies.states[i];
                 let linear = 0.5 * f64::from(self.slot_mass(i)) * f64::from(st.v.length_squared());
                 linear + 0.5 * f64::from(self.slot_inertia(i)) * f64::from(st.w).powi(2)
             })
@@ -323,7 +328,7 @@ impl World {
 
     /// The last step's per-stage profile.
     pub fn profile(&self) -> &StepProfile {
-        &self.profile
+        &self.stats.profile
     }
 
     /// FNV-1a, 64-bit, over the exact bits of every live body's position, rotation (cos,
@@ -336,8 +341,8 @@ impl World {
                 h = h.wrapping_mul(0x0000_0100_0000_01b3);
             }
         };
-        for (i, (sim, st)) in self.sims.iter().zip(&self.states).enumerate() {
-            if !self.body_slots.is_alive(i) {
+        for (i, (sim, st)) in self.bodies.sims.iter().zip(&self.bodies.states).enumerate() {
+            if !self.bodies.slots.is_alive(i) {
                 continue;
             }
             eat(sim.xf.p.x);

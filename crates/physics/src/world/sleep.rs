@@ -22,21 +22,21 @@ impl World {
     /// the surviving order is deterministic. `changes` is the narrow phase's count of such
     /// contacts: with none, nothing is walked.
     pub(super) fn update_touching(&mut self, changes: usize) {
-        if self.kinematic_count > 0 {
+        if self.bodies.kinematic_count > 0 {
             self.keep_touched_by_kinematic_awake();
         }
         if changes == 0 {
             return;
         }
         let mut woke = false;
-        for k in 0..self.contacts.len() {
-            let key = &mut self.contact_keys[k];
+        for k in 0..self.contacts.list.len() {
+            let key = &mut self.contacts.keys[k];
             let now = key.touching && !key.remove;
             if now == key.touched {
                 continue;
             }
             key.touched = now;
-            let c = &mut self.contacts[k];
+            let c = &mut self.contacts.list[k];
             c.touched = now;
             c.hit_pending = now;
             let (a, b) = (c.body_a, c.body_b);
@@ -45,8 +45,8 @@ impl World {
             self.touch_changed(shape_a, shape_b, now);
             if now {
                 for body in [a, b] {
-                    if self.sims[body as usize].kind == BodyKind::Dynamic
-                        && !self.awake[body as usize]
+                    if self.bodies.sims[body as usize].kind == BodyKind::Dynamic
+                        && !self.bodies.awake[body as usize]
                     {
                         self.wake_island_of(body);
                         woke = true;
@@ -59,15 +59,16 @@ impl World {
                 self.islands.unlink(a, b);
             }
         }
-        for k in (0..self.contacts.len()).rev() {
-            if self.contact_keys[k].remove {
-                self.awake_contacts_stale = true;
-                self.contact_keys.swap_remove(k);
-                let c = self.contacts.swap_remove(k);
-                self.pairs.remove(&pair_key(c.shape_a, c.shape_b));
-                if k < self.contacts.len() {
-                    let moved = &self.contacts[k];
-                    self.pairs
+        for k in (0..self.contacts.list.len()).rev() {
+            if self.contacts.keys[k].remove {
+                self.contacts.awake_stale = true;
+                self.contacts.keys.swap_remove(k);
+                let c = self.contacts.list.swap_remove(k);
+                self.contacts.pairs.remove(&pair_key(c.shape_a, c.shape_b));
+                if k < self.contacts.list.len() {
+                    let moved = &self.contacts.list[k];
+                    self.contacts
+                        .pairs
                         .insert(pair_key(moved.shape_a, moved.shape_b), k as u32);
                 }
             }
@@ -85,13 +86,13 @@ impl World {
         // A kinematic body is awake, so its contacts are on the awake list when there is one.
         let listed = self.walk_awake_contacts();
         let count = if listed {
-            self.awake_contacts.len()
+            self.contacts.awake.len()
         } else {
-            self.contacts.len()
+            self.contacts.list.len()
         };
         for n in 0..count {
             let k = if listed {
-                self.awake_contacts[n] as usize
+                self.contacts.awake[n] as usize
             } else {
                 n
             };
@@ -99,23 +100,23 @@ impl World {
             // kinematic body's: the compact key says so without reading the contact. One
             // test, not two in turn: whether a contact touches is a coin toss in a churning
             // pile, while few contacts pass both (washer: its drum's, among 39,000).
-            let key = &self.contact_keys[k];
+            let key = &self.contacts.keys[k];
             let [a, b] = key.dynamic;
             if !(key.touching & ((a == NOT_DYNAMIC) != (b == NOT_DYNAMIC))) {
                 continue;
             }
-            let c = &self.contacts[k];
+            let c = &self.contacts.list[k];
             for (mover, other) in [(c.body_a, c.body_b), (c.body_b, c.body_a)] {
                 let (m, o) = (mover as usize, other as usize);
-                if self.sims[m].kind != BodyKind::Kinematic
-                    || self.sims[o].kind != BodyKind::Dynamic
+                if self.bodies.sims[m].kind != BodyKind::Kinematic
+                    || self.bodies.sims[o].kind != BodyKind::Dynamic
                 {
                     continue;
                 }
-                let st = &self.states[m];
-                if st.v.length().max(self.sims[m].extent * st.w.abs()) > threshold {
-                    self.sims[o].sleep_time = 0.0;
-                    if !self.awake[o] {
+                let st = &self.bodies.states[m];
+                if st.v.length().max(self.bodies.sims[m].extent * st.w.abs()) > threshold {
+                    self.bodies.sims[o].sleep_time = 0.0;
+                    if !self.bodies.awake[o] {
                         self.wake_island_of(other);
                         woke = true;
                     }
@@ -144,8 +145,8 @@ impl World {
         for &k in &self.islands.awake_list {
             let island = &self.islands.islands[k as usize];
             let rested = island.bodies.iter().all(|&b| {
-                self.sims[b as usize].sleep_time >= time_to_sleep
-                    && self.records[b as usize].enable_sleep
+                self.bodies.sims[b as usize].sleep_time >= time_to_sleep
+                    && self.bodies.records[b as usize].enable_sleep
             });
             if !rested {
                 continue;
@@ -170,8 +171,8 @@ impl World {
             let bodies = std::mem::take(&mut self.islands.islands[k as usize].bodies);
             for &b in &bodies {
                 let i = b as usize;
-                self.awake[i] = false;
-                let st = &mut self.states[i];
+                self.bodies.awake[i] = false;
+                let st = &mut self.bodies.states[i];
                 st.v = Vec2::ZERO;
                 st.w = 0.0;
                 self.refresh_motion(b);
@@ -186,8 +187,9 @@ impl World {
         let of = &self.islands.of_body;
         let links: Vec<(u32, u32)> = self
             .contacts
+            .list
             .iter()
-            .zip(&self.contact_keys)
+            .zip(&self.contacts.keys)
             .filter(|(c, key)| {
                 key.touching
                     && c.masses[0].dynamic
@@ -196,14 +198,20 @@ impl World {
                     && of[c.body_b as usize] == k
             })
             .map(|(c, _)| (c.body_a, c.body_b))
-            .chain(self.joints.iter().enumerate().filter_map(|(j, joint)| {
-                let (a, b) = (joint.body_a, joint.body_b);
-                (self.joint_slots.is_alive(j)
-                    && joint.links_islands()
-                    && of[a as usize] == k
-                    && of[b as usize] == k)
-                    .then_some((a, b))
-            }))
+            .chain(
+                self.joints
+                    .list
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(j, joint)| {
+                        let (a, b) = (joint.body_a, joint.body_b);
+                        (self.joints.slots.is_alive(j)
+                            && joint.links_islands()
+                            && of[a as usize] == k
+                            && of[b as usize] == k)
+                            .then_some((a, b))
+                    }),
+            )
             .collect();
         self.islands.split(k, &links);
     }
@@ -218,8 +226,8 @@ impl World {
         self.islands.set_awake(k, true);
         let bodies = std::mem::take(&mut self.islands.islands[k as usize].bodies);
         for &b in &bodies {
-            self.awake[b as usize] = true;
-            self.sims[b as usize].sleep_time = 0.0;
+            self.bodies.awake[b as usize] = true;
+            self.bodies.sims[b as usize].sleep_time = 0.0;
             self.refresh_motion(b);
         }
         self.islands.islands[k as usize].bodies = bodies;
@@ -238,8 +246,8 @@ impl World {
     /// Wakes a body's island (an API call changed it), and resets its rest.
     pub(super) fn wake_body(&mut self, body: u32) {
         let i = body as usize;
-        self.sims[i].sleep_time = 0.0;
-        if self.sims[i].kind == BodyKind::Dynamic && !self.awake[i] {
+        self.bodies.sims[i].sleep_time = 0.0;
+        if self.bodies.sims[i].kind == BodyKind::Dynamic && !self.bodies.awake[i] {
             self.wake_island_of(body);
             self.refresh_contact_keys();
         }
@@ -252,7 +260,7 @@ impl World {
             self.wake_body(body);
         }
         let mut others = Vec::new();
-        for (c, key) in self.contacts.iter().zip(&self.contact_keys) {
+        for (c, key) in self.contacts.list.iter().zip(&self.contacts.keys) {
             if key.touching && among(c.body_a) != among(c.body_b) {
                 others.push(if among(c.body_a) { c.body_b } else { c.body_a });
             }
@@ -260,8 +268,8 @@ impl World {
         let mut woke = false;
         for o in others {
             let i = o as usize;
-            self.sims[i].sleep_time = 0.0;
-            if self.sims[i].kind == BodyKind::Dynamic && !self.awake[i] {
+            self.bodies.sims[i].sleep_time = 0.0;
+            if self.bodies.sims[i].kind == BodyKind::Dynamic && !self.bodies.awake[i] {
                 self.wake_island_of(o);
                 woke = true;
             }
@@ -273,9 +281,9 @@ impl World {
 
     /// Recomputes each contact's `frozen` and `sleeping` flags from the awake flags.
     pub(super) fn refresh_contact_keys(&mut self) {
-        self.awake_contacts_stale = true;
-        for (c, key) in self.contacts.iter().zip(&mut self.contact_keys) {
-            let fresh = ContactKey::of(c, &self.awake);
+        self.contacts.awake_stale = true;
+        for (c, key) in self.contacts.list.iter().zip(&mut self.contacts.keys) {
+            let fresh = ContactKey::of(c, &self.bodies.awake);
             key.frozen = fresh.frozen;
             key.sleeping = fresh.sleeping;
             key.retest |= fresh.frozen;
@@ -284,12 +292,13 @@ impl World {
 
     /// Rebuilds the awake set's body list if it is stale.
     pub(super) fn refresh_moving(&mut self) {
-        if self.moving_stale {
-            let motion = &self.motion;
-            self.moving.clear();
-            self.moving
+        if self.bodies.awake_set_stale {
+            let motion = &self.bodies.motion;
+            self.bodies.awake_set.clear();
+            self.bodies
+                .awake_set
                 .extend((0..motion.len() as u32).filter(|&i| motion[i as usize].moves));
-            self.moving_stale = false;
+            self.bodies.awake_set_stale = false;
         }
     }
 
@@ -300,12 +309,13 @@ impl World {
         if self.islands.awake_count() == self.islands.count() {
             return false;
         }
-        if self.awake_contacts_stale {
-            let keys = &self.contact_keys;
-            self.awake_contacts.clear();
-            self.awake_contacts
+        if self.contacts.awake_stale {
+            let keys = &self.contacts.keys;
+            self.contacts.awake.clear();
+            self.contacts
+                .awake
                 .extend((0..keys.len() as u32).filter(|&k| !keys[k as usize].frozen));
-            self.awake_contacts_stale = false;
+            self.contacts.awake_stale = false;
         }
         true
     }

@@ -35,6 +35,9 @@ pub struct WorldSnapshot {
     contacts: Vec<Contact>,
     islands: Islands,
     steps: u64,
+    /// The last step's length (absent from snapshots written before it was kept: 1/60).
+    #[serde(default = "sixtieth")]
+    last_dt: f32,
     speed_caps: u64,
     /// Bodies the numerical guard has stopped (see [`World::non_finite_bodies`]); absent
     /// from snapshots written before it was counted, which read as 0.
@@ -96,32 +99,33 @@ impl World {
     pub fn snapshot(&self) -> WorldSnapshot {
         WorldSnapshot {
             settings: self.settings,
-            body_slots: self.body_slots.clone(),
-            sims: self.sims.clone(),
-            states: self.states.clone(),
-            records: self.records.clone(),
-            solver_bodies: self.solver_bodies.clone(),
-            motion: self.motion.clone(),
-            awake: self.awake.clone(),
-            shape_slots: self.shape_slots.clone(),
-            shapes: self.shapes.clone(),
-            shape_records: self.shape_records.clone(),
-            fat_aabbs: self.fat_aabbs.clone(),
-            core_aabbs: self.core_aabbs.clone(),
-            moved: self.moved.clone(),
-            contacts: self.contacts.clone(),
+            body_slots: self.bodies.slots.clone(),
+            sims: self.bodies.sims.clone(),
+            states: self.bodies.states.clone(),
+            records: self.bodies.records.clone(),
+            solver_bodies: self.bodies.masses.clone(),
+            motion: self.bodies.motion.clone(),
+            awake: self.bodies.awake.clone(),
+            shape_slots: self.shapes.slots.clone(),
+            shapes: self.shapes.geometry.clone(),
+            shape_records: self.shapes.records.clone(),
+            fat_aabbs: self.shapes.swept_boxes.clone(),
+            core_aabbs: self.shapes.unswept_boxes.clone(),
+            moved: self.shapes.moved_proxies.clone(),
+            contacts: self.contacts.list.clone(),
             islands: self.islands.clone(),
-            steps: self.steps,
-            speed_caps: self.speed_caps,
-            non_finite_bodies: self.non_finite_bodies,
-            joint_slots: self.joint_slots.clone(),
+            steps: self.stats.steps,
+            last_dt: self.stats.last_dt,
+            speed_caps: self.stats.speed_caps,
+            non_finite_bodies: self.stats.non_finite_bodies,
+            joint_slots: self.joints.slots.clone(),
             // The solver's live copies where it holds them (their impulses are current).
-            joints: (0..self.joints.len())
+            joints: (0..self.joints.list.len())
                 .map(|k| self.current(k).clone())
                 .collect(),
-            last_inv_h: self.last_inv_h,
+            last_inv_h: self.joints.last_inv_h,
             sensors: self.sensors.clone(),
-            unpushed_hits: self.event_log.unpushed.clone(),
+            unpushed_hits: self.events.unpushed.clone(),
         }
     }
 
@@ -218,6 +222,9 @@ impl World {
         if bad_joint {
             return Err(corrupt("a joint names a body that does not exist".into()));
         }
+        if !World::steppable(snapshot.last_dt, 1) {
+            return Err(corrupt(format!("last step length {}", snapshot.last_dt)));
+        }
         snapshot.islands.recount();
         snapshot.islands.check().map_err(corrupt)?;
         let mut world = World::new(snapshot.settings);
@@ -225,71 +232,81 @@ impl World {
         for &s in &snapshot.moved {
             moved_flags[s as usize] = true;
         }
-        world.pairs = snapshot
+        world.contacts.pairs = snapshot
             .contacts
             .iter()
             .enumerate()
             .map(|(k, c)| (pair_key(c.shape_a, c.shape_b), k as u32))
             .collect();
-        world.body_slots = snapshot.body_slots;
-        world.sims = snapshot.sims;
-        world.states = snapshot.states;
-        world.records = snapshot.records;
-        world.solver_bodies = snapshot.solver_bodies;
-        world.motion = snapshot.motion;
-        world.awake = snapshot.awake;
-        world.kinematic_count = (0..n)
-            .filter(|&i| world.body_slots.is_alive(i) && world.sims[i].kind == BodyKind::Kinematic)
+        world.bodies.slots = snapshot.body_slots;
+        world.bodies.sims = snapshot.sims;
+        world.bodies.states = snapshot.states;
+        world.bodies.records = snapshot.records;
+        world.bodies.masses = snapshot.solver_bodies;
+        world.bodies.motion = snapshot.motion;
+        world.bodies.awake = snapshot.awake;
+        world.bodies.kinematic_count = (0..n)
+            .filter(|&i| {
+                world.bodies.slots.is_alive(i) && world.bodies.sims[i].kind == BodyKind::Kinematic
+            })
             .count();
-        world.shape_body = snapshot.shape_records.iter().map(|r| r.body).collect();
-        world.shape_slots = snapshot.shape_slots;
-        world.shapes = snapshot.shapes;
-        world.shape_records = snapshot.shape_records;
-        world.fat_aabbs = snapshot.fat_aabbs;
-        world.core_aabbs = snapshot.core_aabbs;
-        world.moved = snapshot.moved;
-        world.moved_flags = moved_flags;
-        world.contacts = snapshot.contacts;
-        for c in &mut world.contacts {
+        world.shapes.body = snapshot.shape_records.iter().map(|r| r.body).collect();
+        world.shapes.slots = snapshot.shape_slots;
+        world.shapes.geometry = snapshot.shapes;
+        world.shapes.records = snapshot.shape_records;
+        world.shapes.swept_boxes = snapshot.fat_aabbs;
+        world.shapes.unswept_boxes = snapshot.core_aabbs;
+        world.shapes.moved_proxies = snapshot.moved;
+        world.shapes.moved_flags = moved_flags;
+        world.contacts.list = snapshot.contacts;
+        for c in &mut world.contacts.list {
             c.masses = [
-                world.solver_bodies[c.body_a as usize],
-                world.solver_bodies[c.body_b as usize],
+                world.bodies.masses[c.body_a as usize],
+                world.bodies.masses[c.body_b as usize],
             ];
         }
-        world.contact_keys = world
+        world.contacts.keys = world
             .contacts
+            .list
             .iter()
-            .map(|c| ContactKey::of(c, &world.awake))
+            .map(|c| ContactKey::of(c, &world.bodies.awake))
             .collect();
         world.islands = snapshot.islands;
         world.islands.grow(n);
-        world.steps = snapshot.steps;
-        world.speed_caps = snapshot.speed_caps;
-        world.non_finite_bodies = snapshot.non_finite_bodies;
+        world.stats.steps = snapshot.steps;
+        world.stats.last_dt = snapshot.last_dt;
+        world.stats.speed_caps = snapshot.speed_caps;
+        world.stats.non_finite_bodies = snapshot.non_finite_bodies;
         for (k, j) in snapshot.joints.iter().enumerate() {
             if snapshot.joint_slots.is_alive(k) && !j.collide_connected {
                 *world
+                    .joints
                     .no_collide
                     .entry(pair_key(j.body_a, j.body_b))
                     .or_insert(0) += 1;
             }
         }
-        world.last_inv_h = snapshot.last_inv_h;
+        world.joints.last_inv_h = snapshot.last_inv_h;
         // Every live sensor shape, and no other, is tracked.
         world.sensors = snapshot.sensors;
-        world.event_log.unpushed = snapshot.unpushed_hits;
-        let is_sensor = |s: usize| world.shape_slots.is_alive(s) && world.shape_records[s].sensor;
+        world.events.unpushed = snapshot.unpushed_hits;
+        let is_sensor = |s: usize| world.shapes.slots.is_alive(s) && world.shapes.records[s].sensor;
         world.sensors.retain(|&s, _| is_sensor(s as usize));
-        for s in 0..world.shapes.len() {
+        for s in 0..world.shapes.geometry.len() {
             if is_sensor(s) {
                 world.sensors.entry(s as u32).or_default();
             }
         }
-        world.joint_slots = snapshot.joint_slots;
-        world.joints = snapshot.joints;
-        world.proxies_changed = true;
-        world.static_tree_stale = true;
-        world.tree_dirty = true;
+        world.joints.slots = snapshot.joint_slots;
+        world.joints.list = snapshot.joints;
+        world.shapes.proxies_changed = true;
+        world.shapes.static_tree_stale = true;
+        world.shapes.tree_dirty = true;
         Ok(world)
     }
+}
+
+/// A sixtieth of a second: the step length a snapshot without one assumes.
+fn sixtieth() -> f32 {
+    1.0 / 60.0
 }

@@ -52,9 +52,10 @@ impl World {
         let start = Instant::now();
         let mut profile = StepProfile::default();
         if !World::steppable(dt, substeps) {
-            self.profile = profile;
+            self.stats.profile = profile;
             return;
         }
+        self.stats.last_dt = dt;
         self.clear_events();
         // Sleeping switched off while islands slept: they wake (Box2D's b2World_EnableSleeping).
         if !self.settings.enable_sleep && self.islands.awake_count() < self.islands.count() {
@@ -63,21 +64,24 @@ impl World {
         // Nothing awake and nothing moved: no contact can change and no body can move (every
         // dynamic body sleeps, and static ones never move), so the step is only counted. A
         // pile at rest costs nothing.
-        if self.islands.awake_count() == 0 && self.kinematic_count == 0 && self.moved.is_empty() {
-            self.event_log.moved_bodies.clear();
+        if self.islands.awake_count() == 0
+            && self.bodies.kinematic_count == 0
+            && self.shapes.moved_proxies.is_empty()
+        {
+            self.events.moved_bodies.clear();
             // A shape destroyed in a sensor still ends its overlap.
             self.overlap_sensors();
-            self.steps += 1;
-            profile.bodies = self.body_slots.live();
-            profile.contacts = self.contacts.len();
+            self.stats.steps += 1;
+            profile.bodies = self.bodies.slots.live();
+            profile.contacts = self.contacts.list.len();
             profile.step_ms = ms(start);
-            self.profile = profile;
+            self.stats.profile = profile;
             return;
         }
         // Only a wide step touches the crew (an inline one takes not even its reference
         // count). The step runs on this thread either way; a wide one's stages are shared.
         let crew = if self.goes_wide() {
-            self.crew.clone()
+            self.workers.crew.clone()
         } else {
             None
         };
@@ -105,24 +109,24 @@ impl World {
         profile.finalize_ms = ms(t);
 
         let t = Instant::now();
-        if !self.event_log.unpushed.is_empty() {
+        if !self.events.unpushed.is_empty() {
             self.gather_hits(dt);
         }
         self.overlap_sensors();
         profile.events_ms = ms(t);
 
         profile.inline = crew.is_none();
-        self.steps += 1;
-        profile.bodies = self.body_slots.live();
-        profile.contacts = self.contacts.len();
-        profile.moved = self.moved.len();
-        profile.moving = self.moving.len();
-        profile.recycled = self.profile_recycled;
-        profile.swept = self.fast_bodies.len();
-        profile.rewound = self.profile_rewound;
-        profile.non_finite = self.guarded_last_step;
+        self.stats.steps += 1;
+        profile.bodies = self.bodies.slots.live();
+        profile.contacts = self.contacts.list.len();
+        profile.moved = self.shapes.moved_proxies.len();
+        profile.moving = self.bodies.awake_set.len();
+        profile.recycled = self.stats.recycled;
+        profile.swept = self.sweeps.fast_bodies.len();
+        profile.rewound = self.stats.rewound;
+        profile.non_finite = self.stats.guarded_last_step;
         profile.step_ms = ms(start);
-        self.profile = profile;
+        self.stats.profile = profile;
     }
 
     /// Whether [`World::step`] steps with this `dt` and `substeps`: `dt` a finite, normal
@@ -136,24 +140,27 @@ impl World {
     /// would be split, judged on the counts the step starts from (a stage whose count
     /// crosses its threshold during the step runs on one thread until the next step).
     fn goes_wide(&self) -> bool {
-        let Some(crew) = &self.crew else {
+        let Some(crew) = &self.workers.crew else {
             return false;
         };
         let all = Spread::over(crew);
-        let (w, contacts) = (&self.wide, self.contact_keys.len());
+        let (w, contacts) = (&self.wide, self.contacts.keys.len());
         // Joints are constraints as contacts are (last step's awake ones; the first step
         // counts every joint).
-        let joints = if self.steps == 0 {
-            self.joint_slots.live()
+        let joints = if self.stats.steps == 0 {
+            self.joints.slots.live()
         } else {
-            self.joint_list.len()
+            self.joints.awake.len()
         };
-        let split = all.goes_wide(self.moved.len(), w.broad_phase)
+        let split = all.goes_wide(self.shapes.moved_proxies.len(), w.broad_phase)
             || all.goes_wide(contacts, w.narrow_phase)
-            || all.goes_wide(self.touching.len() + joints, w.prepare.min(w.solve))
-            || all.goes_wide(self.sims.len(), w.finalize);
+            || all.goes_wide(
+                self.contacts.touching.len() + joints,
+                w.prepare.min(w.solve),
+            )
+            || all.goes_wide(self.bodies.sims.len(), w.finalize);
         // A new scene's first step has no contacts yet, but its moved proxies will make them.
-        split && all.goes_wide(contacts + self.moved.len() + joints, w.step)
+        split && all.goes_wide(contacts + self.shapes.moved_proxies.len() + joints, w.step)
     }
 
     /// Broad phase (reads fat boxes, filters, bodies' kinds; writes contacts and pairs):
@@ -161,7 +168,7 @@ impl World {
     /// (in parallel, each into its own list) and create their contacts serially in moved
     /// order.
     fn update_pairs(&mut self, spread: Spread<'_>) {
-        if self.moved.is_empty() {
+        if self.shapes.moved_proxies.is_empty() {
             return;
         }
         self.refresh_tree();
@@ -171,7 +178,7 @@ impl World {
     /// Brings the broad phase's tree up to date with the fat boxes (reads fat boxes and
     /// moved proxies; writes the tree).
     pub(super) fn refresh_tree(&mut self) {
-        if self.tree_dirty {
+        if self.shapes.tree_dirty {
             // A cheap refit (of the nodes above the moved proxies), and a full rebuild (serial,
             // O(n log n): 3.4 ms of a 20,000-body pile's 16 ms step when it ran every step)
             // only when proxies were added or removed or the refitted tree has grown a
@@ -179,41 +186,45 @@ impl World {
             // bodies that move together (a falling pile, a drifting cloud) keep a refitted
             // tree good. The tree's shape never changes which pairs are found, nor their
             // order (both are sorted).
-            let slots = &self.shape_slots;
-            if self.proxies_changed {
-                self.broad_phase
-                    .rebuild(&self.fat_aabbs, |s| slots.is_alive(s as usize));
-                self.proxies_changed = false;
+            let slots = &self.shapes.slots;
+            if self.shapes.proxies_changed {
+                self.shapes
+                    .tree
+                    .rebuild(&self.shapes.swept_boxes, |s| slots.is_alive(s as usize));
+                self.shapes.proxies_changed = false;
             } else {
-                self.broad_phase.refit_moved(&self.fat_aabbs, &self.moved);
-                if self.broad_phase.looseness() > 1.25 {
-                    self.broad_phase
-                        .rebuild(&self.fat_aabbs, |s| slots.is_alive(s as usize));
+                self.shapes
+                    .tree
+                    .refit_moved(&self.shapes.swept_boxes, &self.shapes.moved_proxies);
+                if self.shapes.tree.looseness() > 1.25 {
+                    self.shapes
+                        .tree
+                        .rebuild(&self.shapes.swept_boxes, |s| slots.is_alive(s as usize));
                 }
             }
-            self.tree_dirty = false;
+            self.shapes.tree_dirty = false;
         }
     }
 
     /// The pair search of [`World::update_pairs`], the tree up to date.
     fn find_new_pairs(&mut self, spread: Spread<'_>) {
-        let bp = &self.broad_phase;
-        let aabbs = &self.fat_aabbs;
-        let cores = &self.core_aabbs;
+        let bp = &self.shapes.tree;
+        let aabbs = &self.shapes.swept_boxes;
+        let cores = &self.shapes.unswept_boxes;
         // Whether each body is dynamic, from the 12-byte solver records rather than the
         // body sims (a cache line each, read at random for every overlapping pair).
-        let dynamic = &self.solver_bodies;
-        let body_of = &self.shape_body;
-        let records = &self.shape_records;
-        let moved_flags = &self.moved_flags;
-        let pairs = &self.pairs;
-        let shapes = &self.shapes;
+        let dynamic = &self.bodies.masses;
+        let body_of = &self.shapes.body;
+        let records = &self.shapes.records;
+        let moved_flags = &self.shapes.moved_flags;
+        let pairs = &self.contacts.pairs;
+        let shapes = &self.shapes.geometry;
         // A new contact only for a pair of shapes of two bodies, one of them dynamic (no
         // other pair can ever push anything), whose core boxes overlap too (always, with a
         // static shape), whose filters let them touch, neither a sensor, that has none yet.
         // Cheapest refusals first: in a resting pile nearly every pair a moved proxy finds
         // has its contact already, and the map says so before the shapes are read.
-        let no_collide = &self.no_collide;
+        let no_collide = &self.joints.no_collide;
         let wants_contact = |p: u32, q: u32| {
             let (bp_, bq) = (body_of[p as usize], body_of[q as usize]);
             bp_ != bq
@@ -227,15 +238,15 @@ impl World {
                 }
                 && Shape::pair_collides(&shapes[p as usize], &shapes[q as usize])
         };
-        if self.moved.len() * 2 > self.broad_phase.proxy_count() {
+        if self.shapes.moved_proxies.len() * 2 > self.shapes.tree.proxy_count() {
             // Most proxies moved (smash, an explosion, the first step): walk the tree against
             // itself once instead of querying it per proxy. The same pairs as the queries
             // would find, created in the same order (each by its finder's place in `moved`,
             // then the other's id), so the results do not depend on which way was taken.
-            let mut rank = std::mem::take(&mut self.moved_rank);
+            let mut rank = std::mem::take(&mut self.shapes.moved_rank);
             rank.clear();
             rank.resize(aabbs.len(), u32::MAX);
-            for (k, &i) in self.moved.iter().enumerate() {
+            for (k, &i) in self.shapes.moved_proxies.iter().enumerate() {
                 rank[i as usize] = k as u32;
             }
             let keep = |p: u32, q: u32| {
@@ -253,16 +264,16 @@ impl World {
                 };
                 Some((u64::from(rank[finder as usize]) << 32) | u64::from(other))
             };
-            let walk = spread.for_stage(self.moved.len(), self.wide.broad_phase);
+            let walk = spread.for_stage(self.shapes.moved_proxies.len(), self.wide.broad_phase);
             let mut found = bp.overlapping_pairs_parallel(aabbs, walk, &keep);
             // Each task's pairs come sorted: a merge sort joins the runs in O(n log tasks).
             found.sort();
-            let moved = std::mem::take(&mut self.moved);
+            let moved = std::mem::take(&mut self.shapes.moved_proxies);
             for key in found {
                 let (finder, other) = (moved[(key >> 32) as usize], key as u32);
                 self.create_contact(finder, other);
             }
-            self.moved_rank = rank;
+            self.shapes.moved_rank = rank;
             self.finish_moved(moved);
             return;
         }
@@ -270,7 +281,7 @@ impl World {
         // sorted by the other's id; the parts are joined in order.
         let found = for_parts(
             spread,
-            &self.moved[..],
+            &self.shapes.moved_proxies[..],
             self.wide.broad_phase,
             &|_, part: &[u32]| {
                 let mut out = Vec::new();
@@ -294,24 +305,24 @@ impl World {
         for (i, j) in found {
             self.create_contact(i, j);
         }
-        let moved = std::mem::take(&mut self.moved);
+        let moved = std::mem::take(&mut self.shapes.moved_proxies);
         self.finish_moved(moved);
     }
 
     /// Hands the moved proxies, their pairs made, to the narrow phase (their flags stay set
     /// for it), and gives `moved` the other buffer for finalize to fill.
     fn finish_moved(&mut self, moved: Vec<u32>) {
-        debug_assert!(self.moved_done.is_empty());
-        self.moved = std::mem::replace(&mut self.moved_done, moved);
+        debug_assert!(self.shapes.moved_done.is_empty());
+        self.shapes.moved_proxies = std::mem::replace(&mut self.shapes.moved_done, moved);
     }
 
     /// Clears the flags of the proxies the pair search took, once the narrow phase has
     /// retested their contacts.
     fn clear_moved_flags(&mut self) {
-        for &i in &self.moved_done {
-            self.moved_flags[i as usize] = false;
+        for &i in &self.shapes.moved_done {
+            self.shapes.moved_flags[i as usize] = false;
         }
-        self.moved_done.clear();
+        self.shapes.moved_done.clear();
     }
 
     /// A contact between shapes `i` and `j`.
@@ -319,12 +330,12 @@ impl World {
         // Shape A is the one later in Box2D's order of shape types (so each pair of types
         // has one manifold routine); of two of a type, the lower id.
         let (mut a, mut b) = if i < j { (i, j) } else { (j, i) };
-        if self.shapes[a as usize].rank() < self.shapes[b as usize].rank() {
+        if self.shapes.geometry[a as usize].rank() < self.shapes.geometry[b as usize].rank() {
             std::mem::swap(&mut a, &mut b);
         }
         let (ra, rb) = (
-            &self.shape_records[a as usize],
-            &self.shape_records[b as usize],
+            &self.shapes.records[a as usize],
+            &self.shapes.records[b as usize],
         );
         let contact = Contact {
             shape_a: a,
@@ -339,19 +350,19 @@ impl World {
             touched: false,
             hit_pending: false,
             masses: [
-                self.solver_bodies[ra.body as usize],
-                self.solver_bodies[rb.body as usize],
+                self.bodies.masses[ra.body as usize],
+                self.bodies.masses[rb.body as usize],
             ],
         };
-        let k = self.contacts.len() as u32;
-        self.pairs.insert(pair_key(a, b), k);
-        let key = ContactKey::of(&contact, &self.awake);
+        let k = self.contacts.list.len() as u32;
+        self.contacts.pairs.insert(pair_key(a, b), k);
+        let key = ContactKey::of(&contact, &self.bodies.awake);
         // The newest contact comes last, so the ascending list stays ascending.
-        if !key.frozen && !self.awake_contacts_stale {
-            self.awake_contacts.push(k);
+        if !key.frozen && !self.contacts.awake_stale {
+            self.contacts.awake.push(k);
         }
-        self.contact_keys.push(key);
-        self.contacts.push(contact);
+        self.contacts.keys.push(key);
+        self.contacts.list.push(contact);
     }
 
     /// Narrow phase (reads poses, velocities, shapes, fat boxes; writes each contact's
@@ -363,13 +374,13 @@ impl World {
     #[allow(unsafe_code)]
     fn collide(&mut self, dt: f32, spread: Spread<'_>) -> (usize, usize) {
         let listed = self.walk_awake_contacts();
-        let sims = &self.sims;
-        let states = &self.states;
-        let shapes = &self.shapes;
-        let records = &self.shape_records;
-        let aabbs = &self.fat_aabbs;
-        let cores = &self.core_aabbs;
-        let moved = &self.moved_flags;
+        let sims = &self.bodies.sims;
+        let states = &self.bodies.states;
+        let shapes = &self.shapes.geometry;
+        let records = &self.shapes.records;
+        let aabbs = &self.shapes.swept_boxes;
+        let cores = &self.shapes.unswept_boxes;
+        let moved = &self.shapes.moved_flags;
         let recycling = self.settings.contact_recycling;
         let collide_one = |c: &mut Contact, key: &mut ContactKey| -> (usize, usize) {
             if key.frozen {
@@ -487,11 +498,11 @@ impl World {
         };
         let sum = |a: (usize, usize), b: (usize, usize)| (a.0 + b.0, a.1 + b.1);
         let (recycled, changes) = if listed {
-            let contacts = SharedSlice::new(&mut self.contacts[..]);
-            let keys = SharedSlice::new(&mut self.contact_keys[..]);
+            let contacts = SharedSlice::new(&mut self.contacts.list[..]);
+            let keys = SharedSlice::new(&mut self.contacts.keys[..]);
             for_parts(
                 spread,
-                &self.awake_contacts[..],
+                &self.contacts.awake[..],
                 self.wide.narrow_phase,
                 &|_, part: &[u32]| {
                     part.iter()
@@ -508,7 +519,7 @@ impl World {
         } else {
             for_parts(
                 spread,
-                (&mut self.contacts[..], &mut self.contact_keys[..]),
+                (&mut self.contacts.list[..], &mut self.contacts.keys[..]),
                 self.wide.narrow_phase,
                 &|_, (contacts, keys): (&mut [Contact], &mut [ContactKey])| {
                     contacts
@@ -520,11 +531,11 @@ impl World {
                 &sum,
             )
         };
-        self.profile_recycled = recycled;
+        self.stats.recycled = recycled;
         let walked = if listed {
-            self.awake_contacts.len()
+            self.contacts.awake.len()
         } else {
-            self.contacts.len()
+            self.contacts.list.len()
         };
         (changes, walked)
     }
@@ -553,39 +564,45 @@ impl World {
         // contact touches is a coin toss in a churning pile, which a branch mispredicted
         // about half the time.
         let listed = self.walk_awake_contacts();
-        let keys = &self.contact_keys;
+        let keys = &self.contacts.keys;
         let candidates = if listed {
-            self.awake_contacts.len()
+            self.contacts.awake.len()
         } else {
             keys.len()
         };
-        self.touching.clear();
-        self.touching.resize(candidates, Touching::default());
+        self.contacts.touching.clear();
+        self.contacts
+            .touching
+            .resize(candidates, Touching::default());
         let mut count = 0;
         for n in 0..candidates {
             let k = if listed {
-                self.awake_contacts[n]
+                self.contacts.awake[n]
             } else {
                 n as u32
             };
             let key = &keys[k as usize];
-            self.touching[count] = Touching {
+            self.contacts.touching[count] = Touching {
                 contact: k,
                 dynamic: key.dynamic,
             };
             count += usize::from(key.touching & !key.sleeping);
         }
-        self.touching.truncate(count);
-        profile.touching = self.touching.len();
+        self.contacts.touching.truncate(count);
+        profile.touching = self.contacts.touching.len();
         self.list_awake_joints();
-        self.last_inv_h = inv_h;
+        self.joints.last_inv_h = inv_h;
         self.solver.use_wide = s.simd;
         self.solver.prepare(
-            (&self.joint_list, &self.chain_list, &self.chain_ranges),
-            &self.touching,
-            &self.contacts,
-            self.solver_bodies.len(),
-            &self.states,
+            (
+                &self.joints.awake,
+                &self.joints.chain_list,
+                &self.joints.chain_ranges,
+            ),
+            &self.contacts.touching,
+            &self.contacts.list,
+            self.bodies.masses.len(),
+            &self.bodies.states,
             &params,
             spread,
             self.wide.prepare,
@@ -608,22 +625,23 @@ impl World {
         };
         // Below its threshold the solver runs on one worker: waking the others for every
         // stage (a hundred a step) costs more than their share of a small colour.
-        let constraints = self.touching.len() + self.joint_list.len() + self.chain_list.len();
+        let constraints =
+            self.contacts.touching.len() + self.joints.awake.len() + self.joints.chain_list.len();
         let solve_spread = spread.for_stage(constraints, self.wide.solve);
         let (caps, workers) = self.solver.run_substeps(
-            &mut self.states,
-            &self.motion,
-            &self.moving,
+            &mut self.bodies.states,
+            &self.bodies.motion,
+            &self.bodies.awake_set,
             &step,
             solve_spread,
         );
-        self.speed_caps += caps;
+        self.stats.speed_caps += caps;
         profile.solver_workers = workers;
         profile.solve_ms = ms(t);
 
         let t = Instant::now();
         self.solver.store_impulses(
-            &mut self.contacts,
+            &mut self.contacts.list,
             spread,
             self.wide.prepare,
             |contact, k, r| {
@@ -690,18 +708,19 @@ impl World {
         };
         // Each fast dynamic body's pose at the step's start, in its own slot of a kept
         // buffer (grown only when the world is), for continuous collision.
-        if self.sweep_starts.len() < self.sims.len() {
-            self.sweep_starts
-                .resize(self.sims.len(), Transform::IDENTITY);
+        if self.sweeps.starts.len() < self.bodies.sims.len() {
+            self.sweeps
+                .starts
+                .resize(self.bodies.sims.len(), Transform::IDENTITY);
         }
         // The guard's count, and how many bodies are to be swept.
         let (guarded, swept) = {
-            let sims = SharedSlice::new(&mut self.sims[..]);
-            let states = SharedSlice::new(&mut self.states[..]);
-            let starts = SharedSlice::new(&mut self.sweep_starts[..]);
+            let sims = SharedSlice::new(&mut self.bodies.sims[..]);
+            let states = SharedSlice::new(&mut self.bodies.states[..]);
+            let starts = SharedSlice::new(&mut self.sweeps.starts[..]);
             for_parts(
                 spread,
-                &self.moving[..],
+                &self.bodies.awake_set[..],
                 self.wide.finalize,
                 &|_, part: &[u32]| {
                     let mut counts = (0, 0);
@@ -724,40 +743,30 @@ impl World {
         };
         // Continuous collision: fast bodies swept against the static shapes, before their
         // boxes are fitted (in slot order; each reads only what does not move here).
-        let mut fast = std::mem::take(&mut self.fast_bodies);
+        let mut fast = std::mem::take(&mut self.sweeps.fast_bodies);
         fast.clear();
         if swept > 0 {
-            fast.extend(self.moving.iter().copied().filter(|&b| {
-                let sim = &self.sims[b as usize];
+            fast.extend(self.bodies.awake_set.iter().copied().filter(|&b| {
+                let sim = &self.bodies.sims[b as usize];
                 sim.fast && sim.kind == BodyKind::Dynamic
             }));
             debug_assert_eq!(fast.len(), swept);
-            self.profile_rewound = self.solve_continuous(&fast, false, spread);
+            self.stats.rewound = self.solve_continuous(&fast, false, spread);
         } else {
-            self.profile_rewound = 0;
+            self.stats.rewound = 0;
         }
         // Each shape of a body that moves: its core box, and that box swept along next
         // step's motion; a fat box is grown again when its box leaves it.
-        let (sims, states, motion) = (&self.sims, &self.states, &self.motion);
-        let (shapes, shape_records) = (&self.shapes, &self.shape_records);
+        let (sims, states, motion) = (&self.bodies.sims, &self.bodies.states, &self.bodies.motion);
+        let (shapes, shape_records) = (&self.shapes.geometry, &self.shapes.records);
         let fit = |shape: &Shape, r: &ShapeRecord, fat: &mut Aabb, core_fat: &mut Aabb| {
             let b = r.body as usize;
-            let (core, swept) = shape_boxes(shape, r, &sims[b], &states[b], dt);
-            if fat.contains(&swept) && core_fat.contains(&core) {
-                return false;
-            }
-            // Both are grown again when either is left, so that a resting body (whose two
-            // boxes nearly coincide) moves in the tree once, not once for each box.
-            *fat = swept.grown(sims[b].margin);
-            if *core_fat != Aabb::EVERYWHERE {
-                *core_fat = core.grown(sims[b].margin);
-            }
-            true
+            fit_proxy(shape, r, &sims[b], &states[b], dt, fat, core_fat)
         };
         // The moved proxies go into `moved` by id (the pair search creates contacts in this
         // order). The pair search emptied it; nothing has added to it since.
-        debug_assert!(self.moved.is_empty());
-        if self.moving.len() * 2 >= self.sims.len() {
+        debug_assert!(self.shapes.moved_proxies.is_empty());
+        if self.bodies.awake_set.len() * 2 >= self.bodies.sims.len() {
             // Most bodies move: a stream through every shape, and a scan of the flags (a
             // byte a shape), beat walking each moving body's list of shapes.
             type ShapeBoxes<'a> = (
@@ -779,20 +788,21 @@ impl World {
             let all = (
                 &shapes[..],
                 &shape_records[..],
-                &mut self.fat_aabbs[..],
-                &mut self.core_aabbs[..],
-                &mut self.moved_flags[..],
+                &mut self.shapes.swept_boxes[..],
+                &mut self.shapes.unswept_boxes[..],
+                &mut self.shapes.moved_flags[..],
             );
             for_each_part(spread, all, self.wide.finalize, &shape_part);
-            let flags = self.moved_flags.iter().enumerate();
-            self.moved
+            let flags = self.shapes.moved_flags.iter().enumerate();
+            self.shapes
+                .moved_proxies
                 .extend(flags.filter(|(_, m)| **m).map(|(s, _)| s as u32));
         } else {
             // Few move: only their shapes, reached through their bodies' lists.
-            let records = &self.records;
-            let fats = SharedSlice::new(&mut self.fat_aabbs[..]);
-            let cores = SharedSlice::new(&mut self.core_aabbs[..]);
-            let moved = SharedSlice::new(&mut self.moved_flags[..]);
+            let records = &self.bodies.records;
+            let fats = SharedSlice::new(&mut self.shapes.swept_boxes[..]);
+            let cores = SharedSlice::new(&mut self.shapes.unswept_boxes[..]);
+            let moved = SharedSlice::new(&mut self.shapes.moved_flags[..]);
             let shape_part = |_: usize, part: &[u32]| {
                 for &b in part {
                     let mut s = records[b as usize].first_shape;
@@ -808,40 +818,45 @@ impl World {
                     }
                 }
             };
-            for_each_part(spread, &self.moving[..], self.wide.finalize, &shape_part);
-            for &b in &self.moving {
+            for_each_part(
+                spread,
+                &self.bodies.awake_set[..],
+                self.wide.finalize,
+                &shape_part,
+            );
+            for &b in &self.bodies.awake_set {
                 let mut s = records[b as usize].first_shape;
                 while s != super::NONE {
-                    if self.moved_flags[s as usize] {
-                        self.moved.push(s);
+                    if self.shapes.moved_flags[s as usize] {
+                        self.shapes.moved_proxies.push(s);
                     }
                     s = shape_records[s as usize].next;
                 }
             }
-            self.moved.sort_unstable();
+            self.shapes.moved_proxies.sort_unstable();
         }
         // Bullets, against every body's final pose (the boxes just fitted); one moved back
         // has its boxes fitted again.
-        let bullets_rewound = if fast.iter().any(|&b| self.records[b as usize].bullet) {
+        let bullets_rewound = if fast.iter().any(|&b| self.bodies.records[b as usize].bullet) {
             self.solve_continuous(&fast, true, spread)
         } else {
             0
         };
-        self.profile_rewound += bullets_rewound;
+        self.stats.rewound += bullets_rewound;
         if bullets_rewound > 0 {
             for &b in &fast {
-                if self.records[b as usize].bullet {
+                if self.bodies.records[b as usize].bullet {
                     self.refit_body_boxes(b, dt);
                 }
             }
-            self.moved.sort_unstable();
+            self.shapes.moved_proxies.sort_unstable();
         }
-        self.fast_bodies = fast;
-        if !self.moved.is_empty() {
-            self.tree_dirty = true;
+        self.sweeps.fast_bodies = fast;
+        if !self.shapes.moved_proxies.is_empty() {
+            self.shapes.tree_dirty = true;
         }
-        self.guarded_last_step = guarded;
-        self.non_finite_bodies += guarded as u64;
+        self.stats.guarded_last_step = guarded;
+        self.stats.non_finite_bodies += guarded as u64;
     }
 }
 
@@ -849,25 +864,52 @@ impl World {
     /// Fits body `b`'s shapes' fat boxes to its pose again (after continuous collision moved
     /// it back), as finalize does, listing any that left its box as moved.
     fn refit_body_boxes(&mut self, b: u32, dt: f32) {
-        let mut s = self.records[b as usize].first_shape;
+        let bu = b as usize;
+        let mut s = self.bodies.records[bu].first_shape;
         while s != super::NONE {
             let su = s as usize;
-            let r = &self.shape_records[su];
-            let sim = &self.sims[b as usize];
-            let (core, swept) = shape_boxes(&self.shapes[su], r, sim, &self.states[b as usize], dt);
-            if !(self.fat_aabbs[su].contains(&swept) && self.core_aabbs[su].contains(&core)) {
-                self.fat_aabbs[su] = swept.grown(sim.margin);
-                if self.core_aabbs[su] != Aabb::EVERYWHERE {
-                    self.core_aabbs[su] = core.grown(sim.margin);
-                }
-                if !self.moved_flags[su] {
-                    self.moved_flags[su] = true;
-                    self.moved.push(s);
-                }
-            }
+            let shapes = &mut self.shapes;
+            let r = &shapes.records[su];
+            let moved = fit_proxy(
+                &shapes.geometry[su],
+                r,
+                &self.bodies.sims[bu],
+                &self.bodies.states[bu],
+                dt,
+                &mut shapes.swept_boxes[su],
+                &mut shapes.unswept_boxes[su],
+            );
             s = r.next;
+            if moved {
+                shapes.mark_moved(su as u32);
+            }
         }
     }
+}
+
+/// Fits a shape's two fat boxes (see `Shapes::swept_boxes`) to its body's pose now and its
+/// motion over the next step of `dt`, if its boxes left them; returns whether they changed
+/// (its proxy moved). Both are grown again when either is left, so that a resting body
+/// (whose two boxes nearly coincide) moves in the tree once, not once for each box; a box
+/// that covers everything (a static body's or a bullet's unswept box) stays so.
+pub(super) fn fit_proxy(
+    shape: &Shape,
+    r: &ShapeRecord,
+    sim: &BodySim,
+    st: &BodyState,
+    dt: f32,
+    swept_box: &mut Aabb,
+    unswept_box: &mut Aabb,
+) -> bool {
+    let (core, swept) = shape_boxes(shape, r, sim, st, dt);
+    if swept_box.contains(&swept) && unswept_box.contains(&core) {
+        return false;
+    }
+    *swept_box = swept.grown(sim.margin);
+    if *unswept_box != Aabb::EVERYWHERE {
+        *unswept_box = core.grown(sim.margin);
+    }
+    true
 }
 
 /// Contact recycling (Box2D v3 `b2CollideTask`): when the pair's relative pose barely

@@ -35,13 +35,13 @@ fn is_finite_sees_one_non_finite_velocity() {
     // set_velocity refuses non-finite input, so the state is written directly.
     let mut w = ball_on_ground();
     assert!(w.is_finite());
-    w.states[1].v.x = f32::NAN;
+    w.bodies.states[1].v.x = f32::NAN;
     assert!(!w.is_finite());
-    w.states[1].v.x = 0.0;
-    w.states[1].w = f32::INFINITY;
+    w.bodies.states[1].v.x = 0.0;
+    w.bodies.states[1].w = f32::INFINITY;
     assert!(!w.is_finite());
-    w.states[1].w = 0.0;
-    w.sims[1].xf.p.y = f32::NEG_INFINITY;
+    w.bodies.states[1].w = 0.0;
+    w.bodies.sims[1].xf.p.y = f32::NEG_INFINITY;
     assert!(!w.is_finite());
 }
 
@@ -62,7 +62,7 @@ fn the_guard_counts_every_body_it_stops_and_snapshots_keep_the_count() {
     assert_eq!(w.non_finite_bodies(), 0);
     // set_velocity refuses non-finite input, so the state is written directly: what a
     // broken upstream (a bad solve, a bad mass) would leave.
-    w.states[0].v = Vec2::new(f32::NAN, 1.0);
+    w.bodies.states[0].v = Vec2::new(f32::NAN, 1.0);
     let before = w.body_view(0).position;
     w.step(1.0 / 60.0, 4);
     // The guard hid it: the state is finite again, the body kept its last finite pose.
@@ -80,7 +80,7 @@ fn the_guard_counts_every_body_it_stops_and_snapshots_keep_the_count() {
     let text = serde_json::to_string(&w.snapshot()).unwrap();
     let mut restored = World::from_snapshot(serde_json::from_str(&text).unwrap()).unwrap();
     assert_eq!(restored.non_finite_bodies(), 1);
-    restored.states[0].w = f32::NAN;
+    restored.bodies.states[0].w = f32::NAN;
     restored.step(1.0 / 60.0, 4);
     assert!(restored.is_finite());
     assert_eq!(restored.non_finite_bodies(), 2);
@@ -480,7 +480,7 @@ fn hinge_net(rows: bool) -> World {
                 }
                 let id = w.create_joint(&def).unwrap();
                 if rows && made % 6 == 0 {
-                    let JointKind::Revolute(r) = &mut w.joints[id.index as usize].kind else {
+                    let JointKind::Revolute(r) = &mut w.joints.list[id.index as usize].kind else {
                         unreachable!()
                     };
                     r.target_angle = if made % 12 == 0 { 3.13 } else { -3.13 };
@@ -632,7 +632,7 @@ fn fast_bodies_recycle_contacts_with_each_other_but_not_with_static_ground() {
     let mut recycled = 0;
     for _ in 0..10 {
         w.step(1.0 / 60.0, 4);
-        assert!(w.sims.iter().all(|s| s.fast));
+        assert!(w.bodies.sims.iter().all(|s| s.fast));
         assert_eq!(w.profile().touching, 1);
         recycled += w.profile().recycled;
     }
@@ -661,7 +661,7 @@ fn fast_bodies_recycle_contacts_with_each_other_but_not_with_static_ground() {
     .unwrap();
     for _ in 0..10 {
         w.step(1.0 / 60.0, 4);
-        assert!(w.sims[1].fast);
+        assert!(w.bodies.sims[1].fast);
         assert_eq!(w.profile().touching, 1);
         assert_eq!(w.profile().recycled, 0);
     }
@@ -721,7 +721,7 @@ fn a_manifold_that_dropped_a_point_is_recycled_only_below_that_points_reach() {
     };
     let mut w = start();
     w.step(1.0 / 60.0, 4);
-    assert!(w.sims.iter().all(|s| s.fast));
+    assert!(w.bodies.sims.iter().all(|s| s.fast));
     assert_eq!((w.profile().recycled, w.profile().touching), (1, 0));
     w.set_velocity(BodyId::scene(1), Vec2::new(29.7, 0.06), 0.0)
         .unwrap();

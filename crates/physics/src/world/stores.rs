@@ -1,0 +1,264 @@
+//! The world's stores: bodies, shapes (with their broad-phase proxies), contacts and joints,
+//! each owning its rows (flat arrays by slot, which the step's stages split across threads)
+//! and the flags that say what changed since the step last looked. A change goes through the
+//! store's own methods, which raise those flags themselves (Rapier's `RigidBodySet` records
+//! its changes the same way), so a new setter on `World` cannot forget one.
+//!
+//! Islands are a store of their own (`crate::island::Islands`); the world's counters, the
+//! worker threads and continuous collision's buffers are the small structs at the end.
+
+use std::ops::Range;
+use std::sync::Arc;
+
+use rustc_hash::FxHashMap;
+
+use super::joints::JointMeta;
+use super::{BodyRecord, BodySim, Contact, ContactKey, ShapeRecord};
+use crate::collision::broad_phase::BroadPhase;
+use crate::crew::Crew;
+use crate::id::Slots;
+use crate::joint::Joint;
+use crate::joint::chain::Link;
+use crate::math::Transform;
+use crate::profile::StepProfile;
+use crate::shape::{Aabb, Shape};
+use crate::solver::contact_solver::BodyState;
+use crate::solver::{BodyMotion, SolverBody, Touching};
+
+/// Bodies, by slot (a body's id's `index`).
+#[derive(Default)]
+pub(super) struct Bodies {
+    /// Which slots hold a body, and each slot's generation.
+    pub slots: Slots,
+    /// What the step reads but the substeps do not: pose, kind, extents, sleep timer.
+    pub sims: Vec<BodySim>,
+    /// Velocities and substep deltas: what the substeps read and write.
+    pub states: Vec<BodyState>,
+    /// What the step does not read every step: local centre, shapes, damping, user data.
+    pub records: Vec<BodyRecord>,
+    /// Inverse mass and inertia as the solver reads them.
+    pub masses: Vec<SolverBody>,
+    /// How each body moves (integrated, kinematic, fixed rotation).
+    pub motion: Vec<BodyMotion>,
+    /// Awake: kinematic bodies and awake dynamic ones (never static ones or free slots).
+    pub awake: Vec<bool>,
+    /// The awake set's bodies (Box2D's awake solver set, as a list of slots): every body
+    /// whose `motion.moves`, ascending. The body stages walk it, so a sleeping body costs
+    /// them nothing. Rebuilt at the next step when `awake_set_stale`.
+    pub awake_set: Vec<u32>,
+    pub awake_set_stale: bool,
+    /// Kinematic bodies in the world (their motion keeps what they touch awake).
+    pub kinematic_count: usize,
+}
+
+/// Shapes, by slot, with the broad phase's proxies (one per shape, by the same slot).
+#[derive(Default)]
+pub(super) struct Shapes {
+    /// Which slots hold a shape, and each slot's generation.
+    pub slots: Slots,
+    /// Each shape's geometry, centred on its own frame.
+    pub geometry: Vec<Shape>,
+    /// Each shape's body, frame, material, filter and place in its body's list.
+    pub records: Vec<ShapeRecord>,
+    /// Each shape's body (a compact copy of `ShapeRecord::body` for the broad phase).
+    pub body: Vec<u32>,
+    /// Each shape's fat box, swept along its body's velocity over a step: the broad phase's
+    /// proxies. A pair with a static body needs these to overlap, so that a fast body meets
+    /// a wall a step early and its speculative contact stops it.
+    pub swept_boxes: Vec<Aabb>,
+    /// Each shape's fat box without the sweep along its velocity. A pair of two moving
+    /// bodies needs these to overlap too (Box2D's pairs: fat boxes, no sweep): bodies that
+    /// fall side by side then make no pair. A shape of a static body or a bullet has
+    /// [`Aabb::EVERYWHERE`], so its pairs go by the swept boxes alone.
+    pub unswept_boxes: Vec<Aabb>,
+    /// Proxies whose boxes changed since the last pair search.
+    pub moved_proxies: Vec<u32>,
+    /// Per proxy: whether it is in `moved_proxies` (or in `moved_done`, until the narrow
+    /// phase has retested its contacts' boxes).
+    pub moved_flags: Vec<bool>,
+    /// The proxies the pair search just took from `moved_proxies`: their flags stay set
+    /// until the narrow phase has retested their contacts' boxes, then are cleared (the
+    /// buffers of the two lists take turns, so a steady step allocates nothing).
+    pub moved_done: Vec<u32>,
+    /// Scratch: each moved proxy's place in `moved_proxies` (the tree walk's creation order).
+    pub moved_rank: Vec<u32>,
+    /// A proxy was added or removed: the tree must be rebuilt, not refitted.
+    pub proxies_changed: bool,
+    /// A proxy's box changed: the tree must be refitted (or rebuilt).
+    pub tree_dirty: bool,
+    /// The broad phase's tree of every proxy's swept box.
+    pub tree: BroadPhase,
+    /// A tree of the static shapes alone, which a fast body is swept against (Box2D keeps a
+    /// tree per body type): rebuilt when a static shape is added, removed or moved.
+    pub static_tree: BroadPhase,
+    pub static_tree_stale: bool,
+}
+
+impl Shapes {
+    /// Puts a shape in slot `s` (taken from `slots`; `new`: the slot is new, at the end),
+    /// with empty boxes until its body fits them. The tree is rebuilt at the next step.
+    pub fn put(&mut self, s: u32, new: bool, shape: Shape, record: ShapeRecord) {
+        let empty = Aabb {
+            min: glam::Vec2::ZERO,
+            max: glam::Vec2::ZERO,
+        };
+        let body = record.body;
+        if new {
+            self.geometry.push(shape);
+            self.records.push(record);
+            self.body.push(body);
+            self.swept_boxes.push(empty);
+            self.unswept_boxes.push(empty);
+            self.moved_flags.push(false);
+        } else {
+            let su = s as usize;
+            self.geometry[su] = shape;
+            self.records[su] = record;
+            self.body[su] = body;
+            self.swept_boxes[su] = empty;
+            self.unswept_boxes[su] = empty;
+            self.moved_flags[su] = false;
+        }
+        self.proxies_changed = true;
+        self.static_tree_stale = true;
+        self.tree_dirty = true;
+    }
+
+    /// Frees slot `s` (its body has already unlinked it) and drops its proxy.
+    pub fn release(&mut self, s: u32) {
+        let su = s as usize;
+        if self.moved_flags[su] {
+            self.moved_flags[su] = false;
+            self.moved_proxies.retain(|&m| m != s);
+        }
+        self.records[su].next = super::NONE;
+        self.records[su].body = super::NONE;
+        self.body[su] = super::NONE;
+        self.slots.release(s);
+        self.proxies_changed = true;
+        self.static_tree_stale = true;
+        self.tree_dirty = true;
+    }
+
+    /// Gives proxy `s` new boxes and queues it for the next pair search; `is_static` says
+    /// whether its body is static (the static tree is then stale too).
+    pub fn set_boxes(&mut self, s: u32, swept: Aabb, unswept: Aabb, is_static: bool) {
+        let su = s as usize;
+        self.swept_boxes[su] = swept;
+        self.unswept_boxes[su] = unswept;
+        self.mark_moved(s);
+        self.tree_dirty = true;
+        if is_static {
+            self.static_tree_stale = true;
+        }
+    }
+
+    /// Queues proxy `s` for the next pair search (once, however often it moves).
+    pub fn mark_moved(&mut self, s: u32) {
+        let su = s as usize;
+        if !self.moved_flags[su] {
+            self.moved_flags[su] = true;
+            self.moved_proxies.push(s);
+        }
+    }
+}
+
+/// Contacts, in the deterministic order the solver sees them.
+#[derive(Default)]
+pub(super) struct Contacts {
+    pub list: Vec<Contact>,
+    /// One per contact, in the same order: what the passes over every contact read.
+    pub keys: Vec<ContactKey>,
+    /// The awake set's contacts: every contact not `frozen`, ascending. While an island
+    /// sleeps, the contact stages walk it instead of every contact. Rebuilt when needed
+    /// once `awake_stale`.
+    pub awake: Vec<u32>,
+    pub awake_stale: bool,
+    /// Each contact's place in `list`, by its shapes' `pair_key`.
+    pub pairs: FxHashMap<u64, u32>,
+    /// This step's touching contacts, in contact order (reused).
+    pub touching: Vec<Touching>,
+}
+
+/// Joints, by slot, and what the step derives from them.
+#[derive(Default)]
+pub(super) struct Joints {
+    pub slots: Slots,
+    /// Joints by slot (a free slot holds its last joint, unsolved).
+    pub list: Vec<Joint>,
+    /// Pairs of bodies (by `pair_key`) that joints keep from touching, with how many do.
+    pub no_collide: FxHashMap<u64, u32>,
+    /// This step's awake joints, for the colouring (less those the chains take).
+    pub awake: Vec<Touching>,
+    /// Last step's substep rate, for the joints' reaction forces.
+    pub last_inv_h: f32,
+    /// This step's chains of hinges (slots in path order) and each chain's range.
+    pub chain_list: Vec<u32>,
+    pub chain_ranges: Vec<Range<usize>>,
+    /// The eligible joints the chains were found among (searched again when they change),
+    /// and per-slot scratch.
+    pub chain_links: Vec<Link>,
+    pub chain_scratch: Vec<Link>,
+    pub chain_flags: Vec<bool>,
+    /// The solver holds the awake joints' live state (impulses): `list` is stale for them
+    /// until `World::sync_joints` (see `Solver::prepare_joints`).
+    pub solver_holds_impulses: bool,
+    /// Each joint slot's bodies and kind flags, for the step's walk; rebuilt when a joint is
+    /// made, destroyed or edited (`meta_stale`).
+    pub meta: Vec<JointMeta>,
+    pub meta_stale: bool,
+}
+
+/// What the world counts over its life and measures each step.
+pub(super) struct Stats {
+    pub steps: u64,
+    /// The last step's length (s; 1/60 before the first): a body made or moved between
+    /// steps has its boxes swept over a step this long.
+    pub last_dt: f32,
+    /// How often a body's speed was clamped to the caps.
+    pub speed_caps: u64,
+    /// Bodies the numerical guard stopped in the last step.
+    pub guarded_last_step: usize,
+    /// Every body the guard has stopped, over the world's whole life (snapshots keep it).
+    pub non_finite_bodies: u64,
+    /// The last step's per-stage profile.
+    pub profile: StepProfile,
+    /// Contacts whose manifold the last step recycled, for the profile.
+    pub recycled: usize,
+    /// Bodies continuous collision moved back in the last step, for the profile.
+    pub rewound: usize,
+}
+
+impl Default for Stats {
+    fn default() -> Stats {
+        Stats {
+            steps: 0,
+            last_dt: 1.0 / 60.0,
+            speed_caps: 0,
+            guarded_last_step: 0,
+            non_finite_bodies: 0,
+            profile: StepProfile::default(),
+            recycled: 0,
+            rewound: 0,
+        }
+    }
+}
+
+/// Continuous collision's kept buffers.
+#[derive(Default)]
+pub(super) struct Sweeps {
+    /// Each fast body's pose at the step's start (by slot).
+    pub starts: Vec<Transform>,
+    /// This step's fast bodies.
+    pub fast_bodies: Vec<u32>,
+    /// Each fast body's time of impact in this pass, by its place in `fast_bodies`.
+    pub impacts: Vec<f32>,
+}
+
+/// The threads that help the caller's with a wide step.
+pub(super) struct Workers {
+    /// `None` at one thread, and where the platform has no threads (see
+    /// [`super::set_thread_source`]): every step is then inline.
+    pub crew: Option<Arc<Crew>>,
+    pub threads: usize,
+}
