@@ -94,9 +94,7 @@ impl World {
             self.bodies.states[i] = state;
         }
         self.islands.grow(i + 1);
-        if def.kind == BodyKind::Kinematic {
-            self.bodies.kinematic_count += 1;
-        }
+        self.bodies.count_kind(BodyKind::Static, def.kind);
         let parts = def.parts();
         for (k, part) in parts.iter().enumerate() {
             // Validation has checked every shape, so this cannot fail.
@@ -131,7 +129,7 @@ impl World {
             st.v = Vec2::ZERO;
             st.w = 0.0;
         }
-        self.refresh_motion(index);
+        self.bodies.refresh_motion(index);
         self.refresh_shape_boxes(index);
         BodyId { index, generation }
     }
@@ -262,7 +260,7 @@ impl World {
             };
             r.offset = r.from_center != Transform::IDENTITY;
         }
-        self.refresh_motion(body);
+        self.bodies.refresh_motion(body);
     }
 
     /// Contacts keep a copy of their bodies' masses (prepare reads no body): refreshes body
@@ -282,29 +280,6 @@ impl World {
                 };
             }
         }
-    }
-
-    /// The integration flags of a body from its kind, mass and sleep state.
-    pub(super) fn refresh_motion(&mut self, body: u32) {
-        let i = body as usize;
-        let kind = self.bodies.sims[i].kind;
-        let r = &self.bodies.records[i];
-        let awake = self.bodies.awake[i];
-        if self.bodies.motion[i].moves != (kind != BodyKind::Static && awake) {
-            self.bodies.awake_set_stale = true;
-        }
-        self.bodies.motion[i] = BodyMotion {
-            dynamic: kind == BodyKind::Dynamic && awake,
-            moves: kind != BodyKind::Static && awake,
-            rotates: match kind {
-                BodyKind::Static => false,
-                BodyKind::Kinematic => true,
-                BodyKind::Dynamic => self.bodies.sims[i].inv_inertia > 0.0,
-            },
-            linear_damping: r.linear_damping,
-            angular_damping: r.angular_damping,
-            gravity_scale: r.gravity_scale,
-        };
     }
 
     /// Whether every pair of body `i`'s shapes goes by swept boxes alone: a static body's
@@ -570,12 +545,7 @@ impl World {
         // Its contacts' touching state and islands are rebuilt as if they were new.
         self.wake_touching(&[i as u32], |b| b == i as u32);
         self.islands.remove_body(i as u32);
-        if old == BodyKind::Kinematic {
-            self.bodies.kinematic_count -= 1;
-        }
-        if kind == BodyKind::Kinematic {
-            self.bodies.kinematic_count += 1;
-        }
+        self.bodies.count_kind(old, kind);
         self.bodies.sims[i].kind = kind;
         if old == BodyKind::Static || kind == BodyKind::Static {
             self.shapes.static_tree_stale = true;
@@ -645,15 +615,14 @@ impl World {
         for s in shapes {
             self.release_shape(s);
         }
-        if self.bodies.sims[i].kind == BodyKind::Kinematic {
-            self.bodies.kinematic_count -= 1;
-        }
+        self.bodies
+            .count_kind(self.bodies.sims[i].kind, BodyKind::Static);
         self.bodies.records[i].first_shape = NONE;
         self.bodies.sims[i].kind = BodyKind::Static;
         self.bodies.states[i] = BodyState::default();
         self.bodies.awake[i] = false;
         self.bodies.masses[i] = SolverBody::default();
-        self.refresh_motion(i as u32);
+        self.bodies.refresh_motion(i as u32);
         self.bodies.slots.release(i as u32);
     }
 

@@ -102,7 +102,7 @@ impl World {
                 continue;
             }
             let shape = &self.shapes.geometry[s as usize];
-            let at = |xf: Transform| shape.aabb(xf.compose(r.from_center));
+            let at = |xf: Transform| shape.aabb(r.pose(xf));
             let both = at(sweep.at(0.0)).union(&at(sweep.at(1.0)));
             swept = Some(swept.map_or(both, |b| b.union(&both)));
         }
@@ -146,7 +146,7 @@ impl World {
                     // A chain pushes only from its front: sweep only a shape whose centre
                     // crosses it from front to back (Box2D's rule, so that a body sliding
                     // along a chain, or leaving it from behind, is not held back).
-                    let xf = other_pose.compose(ro.from_center);
+                    let xf = ro.pose(other_pose);
                     let (p1, p2) = (xf.apply(c.segment.point1), xf.apply(c.segment.point2));
                     let e = p2 - p1;
                     let before = cross(sweep.at(0.0).apply(centroid) - p1, e);

@@ -232,12 +232,7 @@ impl World {
     /// Shape slot `s`'s pose in the world.
     pub(super) fn shape_pose(&self, s: u32) -> Transform {
         let r = &self.shapes.records[s as usize];
-        let xf = self.bodies.sims[r.body as usize].xf;
-        if r.offset {
-            xf.compose(r.from_center)
-        } else {
-            xf
-        }
+        r.pose(self.bodies.sims[r.body as usize].xf)
     }
 
     /// The step's first act: last step's events go.

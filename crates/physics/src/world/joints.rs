@@ -125,8 +125,7 @@ impl World {
     /// Puts a built joint in a slot, links its bodies' islands and keeps them apart unless
     /// it lets them touch. The caller checks the stores afterwards (`debug_validate`).
     pub(super) fn insert_joint(&mut self, joint: Joint) -> JointId {
-        self.sync_joints();
-        self.joints.meta_stale = true;
+        self.edit_joints();
         let (index, generation, fresh) = self.joints.slots.take();
         let (a, b) = (joint.body_a, joint.body_b);
         let keep_apart = !joint.collide_connected;
@@ -199,8 +198,7 @@ impl World {
     /// Removes joint `k`; `gone(b)` says whether body `b` is being destroyed with it (its
     /// shapes need not look for new pairs).
     pub(super) fn remove_joint(&mut self, k: usize, gone: impl Fn(u32) -> bool) {
-        self.sync_joints();
-        self.joints.meta_stale = true;
+        self.edit_joints();
         let joint = self.joints.list[k].clone();
         // The slot keeps an unsolved stand-in until it is reused.
         self.joints.list[k].kind = JointKind::Filter;
@@ -254,9 +252,8 @@ impl World {
     /// its bodies wake.
     pub fn joint_kind_mut(&mut self, id: JointId) -> Result<&mut JointKind, WorldError> {
         let k = self.joint_slot(id)?;
-        self.sync_joints();
         // A limit, motor or spring added or taken away changes whether it can join a chain.
-        self.joints.meta_stale = true;
+        self.edit_joints();
         let (a, b) = (self.joints.list[k].body_a, self.joints.list[k].body_b);
         self.wake_body(a);
         self.wake_body(b);
@@ -422,8 +419,16 @@ impl World {
         self.joints.solver_holds_impulses = true;
     }
 
+    /// Readies the joint store for a change: the solver's live impulses are written back
+    /// first, and the step's walk over the joints (`Joints::meta`, the chains) is rebuilt at
+    /// the next step. Every change to a joint, its kind or the set of joints comes here.
+    fn edit_joints(&mut self) {
+        self.sync_joints();
+        self.joints.meta_stale = true;
+    }
+
     /// Writes the solver's live joint copies back, so the world's joints are current (before
-    /// the world reads them whole or edits one).
+    /// the world reads them whole).
     pub(super) fn sync_joints(&mut self) {
         if self.joints.solver_holds_impulses {
             self.solver

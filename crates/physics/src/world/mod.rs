@@ -205,6 +205,18 @@ struct ShapeRecord {
     part: u32,
 }
 
+impl ShapeRecord {
+    /// The shape's pose in the world when its body's centre of mass is at `body`.
+    #[inline]
+    fn pose(&self, body: Transform) -> Transform {
+        if self.offset {
+            body.compose(self.from_center)
+        } else {
+            body
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, serde::Serialize, serde::Deserialize)]
 struct Contact {
     shape_a: u32,

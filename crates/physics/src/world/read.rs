@@ -196,11 +196,7 @@ impl World {
                 generation: self.bodies.slots.generation(b),
             },
             shape: &self.shapes.geometry[s],
-            transform: if r.offset {
-                xf.compose(r.from_center)
-            } else {
-                xf
-            },
+            transform: r.pose(xf),
             part: r.part as usize,
             sensor: r.sensor,
             fat_aabb: self.shapes.swept_boxes[s],

@@ -175,7 +175,7 @@ impl World {
                 let st = &mut self.bodies.states[i];
                 st.v = Vec2::ZERO;
                 st.w = 0.0;
-                self.refresh_motion(b);
+                self.bodies.refresh_motion(b);
             }
             self.islands.islands[k as usize].bodies = bodies;
         }
@@ -228,7 +228,7 @@ impl World {
         for &b in &bodies {
             self.bodies.awake[b as usize] = true;
             self.bodies.sims[b as usize].sleep_time = 0.0;
-            self.refresh_motion(b);
+            self.bodies.refresh_motion(b);
         }
         self.islands.islands[k as usize].bodies = bodies;
     }

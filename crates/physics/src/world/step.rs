@@ -431,16 +431,7 @@ impl World {
             let (ra, rb) = (&records[sa], &records[sb]);
             // A shape off its body's centre collides at its own pose; its anchors are then
             // moved to be relative to the body's centre, as the solver wants them.
-            let pose_a = if ra.offset {
-                xa.compose(ra.from_center)
-            } else {
-                xa
-            };
-            let pose_b = if rb.offset {
-                xb.compose(rb.from_center)
-            } else {
-                xb
-            };
+            let (pose_a, pose_b) = (ra.pose(xa), rb.pose(xb));
             let mut m = collide(&shapes[sa], pose_a, &shapes[sb], pose_b, max_distance);
             for p in &mut m.points[..m.count] {
                 if ra.offset {
@@ -991,11 +982,7 @@ pub(super) fn shape_boxes(
     st: &BodyState,
     dt: f32,
 ) -> (Aabb, Aabb) {
-    let pose = if r.offset {
-        sim.xf.compose(r.from_center)
-    } else {
-        sim.xf
-    };
+    let pose = r.pose(sim.xf);
     let core = shape
         .aabb(pose)
         .grown(SPECULATIVE_DISTANCE + st.w.abs() * dt * sim.extent);

@@ -21,6 +21,7 @@ use crate::joint::Joint;
 use crate::joint::chain::Link;
 use crate::math::Transform;
 use crate::profile::StepProfile;
+use crate::scene::BodyKind;
 use crate::shape::{Aabb, Shape};
 use crate::solver::contact_solver::BodyState;
 use crate::solver::{BodyMotion, SolverBody, Touching};
@@ -49,6 +50,43 @@ pub(super) struct Bodies {
     pub awake_set_stale: bool,
     /// Kinematic bodies in the world (their motion keeps what they touch awake).
     pub kinematic_count: usize,
+}
+
+impl Bodies {
+    /// The integration flags of body `i` from its kind, mass and sleep state; the awake
+    /// set is rebuilt at the next step if whether it moves changed.
+    pub fn refresh_motion(&mut self, i: u32) {
+        let i = i as usize;
+        let kind = self.sims[i].kind;
+        let r = &self.records[i];
+        let awake = self.awake[i];
+        if self.motion[i].moves != (kind != BodyKind::Static && awake) {
+            self.awake_set_stale = true;
+        }
+        self.motion[i] = BodyMotion {
+            dynamic: kind == BodyKind::Dynamic && awake,
+            moves: kind != BodyKind::Static && awake,
+            rotates: match kind {
+                BodyKind::Static => false,
+                BodyKind::Kinematic => true,
+                BodyKind::Dynamic => self.sims[i].inv_inertia > 0.0,
+            },
+            linear_damping: r.linear_damping,
+            angular_damping: r.angular_damping,
+            gravity_scale: r.gravity_scale,
+        };
+    }
+
+    /// Keeps the count of kinematic bodies as a body goes from kind `old` to `new` (a new
+    /// body comes from, and a destroyed one goes to, `Static`, which is not counted).
+    pub fn count_kind(&mut self, old: BodyKind, new: BodyKind) {
+        if old == BodyKind::Kinematic {
+            self.kinematic_count -= 1;
+        }
+        if new == BodyKind::Kinematic {
+            self.kinematic_count += 1;
+        }
+    }
 }
 
 /// Shapes, by slot, with the broad phase's proxies (one per shape, by the same slot).
