@@ -68,7 +68,7 @@ impl BroadPhase {
     }
 
     /// Rebuilds the tree over the proxies of `aabbs` (proxy id = index) that `live` keeps.
-    pub fn rebuild(&mut self, aabbs: &[Aabb], live: impl Fn(u32) -> bool) {
+    pub(crate) fn rebuild(&mut self, aabbs: &[Aabb], live: impl Fn(u32) -> bool) {
         self.nodes.clear();
         self.parent.clear();
         self.items.clear();
@@ -99,7 +99,8 @@ impl BroadPhase {
     }
 
     /// Rebuilds the tree over every proxy of `aabbs`.
-    pub fn rebuild_all(&mut self, aabbs: &[Aabb]) {
+    #[cfg(test)]
+    pub(crate) fn rebuild_all(&mut self, aabbs: &[Aabb]) {
         self.rebuild(aabbs, |_| true);
     }
 
@@ -114,7 +115,7 @@ impl BroadPhase {
     }
 
     /// How much costlier the tree is than right after its last rebuild (1 = as good).
-    pub fn looseness(&self) -> f32 {
+    pub(crate) fn looseness(&self) -> f32 {
         if self.built_cost > 0.0 {
             self.current_cost / self.built_cost
         } else {
@@ -180,7 +181,7 @@ impl BroadPhase {
     /// Recomputes every node's box from `aabbs` without changing the tree's shape: O(n), far
     /// cheaper than a rebuild, at the price of looser nodes as bodies wander. Nodes are stored
     /// parent before child, so a reverse walk sees children first.
-    pub fn refit(&mut self, aabbs: &[Aabb]) {
+    pub(crate) fn refit(&mut self, aabbs: &[Aabb]) {
         for k in (0..self.nodes.len()).rev() {
             self.nodes[k].aabb = self.fitted(k, aabbs);
         }
@@ -191,7 +192,7 @@ impl BroadPhase {
     /// built or refitted: only the nodes above them are recomputed, each walk up stopping
     /// where a node's box comes out as it was. The boxes are exactly those of [`Self::refit`];
     /// the cost follows what moved (a tree's depth per proxy), not the proxy count.
-    pub fn refit_moved(&mut self, aabbs: &[Aabb], moved: &[u32]) {
+    pub(crate) fn refit_moved(&mut self, aabbs: &[Aabb], moved: &[u32]) {
         // A walk up reads a node per level, scattered; a full refit streams through every
         // node. Past about one moved proxy in sixteen nodes the full refit is cheaper.
         let missing = moved
@@ -239,7 +240,8 @@ impl BroadPhase {
     /// walking the tree against itself (each subtree's pairs, then the pairs between sibling
     /// subtrees, pruned where their bounds part). When most proxies moved this is cheaper
     /// than one query per proxy, which visits the same upper nodes again for every proxy.
-    pub fn overlapping_pairs(&self, aabbs: &[Aabb], mut f: impl FnMut(u32, u32)) {
+    #[cfg(test)]
+    pub(crate) fn overlapping_pairs(&self, aabbs: &[Aabb], mut f: impl FnMut(u32, u32)) {
         if !self.nodes.is_empty() {
             self.pairs_within(0, aabbs, &mut f);
         }
@@ -369,7 +371,7 @@ impl BroadPhase {
     }
 
     /// Calls `f` with every proxy whose fat box overlaps `aabb`, in tree order.
-    pub fn query(&self, aabb: &Aabb, aabbs: &[Aabb], mut f: impl FnMut(u32)) {
+    pub(crate) fn query(&self, aabb: &Aabb, aabbs: &[Aabb], mut f: impl FnMut(u32)) {
         if self.nodes.is_empty() {
             return;
         }
@@ -406,7 +408,7 @@ impl BroadPhase {
     /// ray's box misses it or the ray's line passes beside it (the separating axis along
     /// the ray's normal: van den Bergen, "Collision Detection in Interactive 3D
     /// Environments", 2003, p. 80).
-    pub fn ray_cast(
+    pub(crate) fn ray_cast(
         &self,
         aabbs: &[Aabb],
         origin: Vec2,
@@ -470,7 +472,7 @@ impl BroadPhase {
 
 /// Whether the ray `origin + t · translation`, t in [0, `max_fraction`], may cross `b` (the
 /// test [`BroadPhase::ray_cast`] makes of each node), for proxies outside the tree.
-pub fn ray_may_cross(b: &Aabb, origin: Vec2, translation: Vec2, max_fraction: f32) -> bool {
+pub(crate) fn ray_may_cross(b: &Aabb, origin: Vec2, translation: Vec2, max_fraction: f32) -> bool {
     let end = origin + translation * max_fraction;
     let ray = Aabb {
         min: origin.min(end),

@@ -2,8 +2,8 @@
 //! turns each pair into a contact manifold of up to two points.
 
 pub mod broad_phase;
-pub mod distance;
-pub mod manifold;
+pub(crate) mod distance;
+pub(crate) mod manifold;
 pub mod ray;
 
 pub use manifold::{Manifold, ManifoldPoint, collide};

@@ -9,7 +9,7 @@
 //! current error follows without a transform (docs/soft_step.md 2.5). Accumulated impulses carry
 //! over from step to step (warm starting), as a contact's do.
 
-pub mod chain;
+pub(crate) mod chain;
 pub mod def;
 mod distance;
 mod motor;
@@ -94,7 +94,7 @@ pub struct Joint {
 
 /// What a body looks like to a joint's prepare.
 #[derive(Clone, Copy, Debug)]
-pub struct JointBody {
+pub(crate) struct JointBody {
     /// Centre of mass, world.
     pub center: Vec2,
     /// Rotation.
@@ -131,7 +131,7 @@ pub(crate) struct JointStep {
 
 /// The substep knobs a joint reads.
 #[derive(Clone, Copy, Debug)]
-pub struct JointContext {
+pub(crate) struct JointContext {
     /// Substep length.
     pub h: f32,
     /// Its inverse.
@@ -221,7 +221,7 @@ pub(crate) fn limit_row(c: f32, use_bias: bool, soft: &Softness, inv_h: f32) -> 
 
 impl Joint {
     /// Computes this step's frames and masses from the bodies at the step's start.
-    pub fn prepare(&mut self, a: &JointBody, b: &JointBody, ctx: &JointContext) {
+    pub(crate) fn prepare(&mut self, a: &JointBody, b: &JointBody, ctx: &JointContext) {
         // Joints no stiffer than a quarter of the substep rate (Box2D's `b2PrepareJoint`).
         let hertz = self.hertz.min(0.25 * ctx.inv_h);
         let s = JointStep {
@@ -285,7 +285,7 @@ impl Joint {
     }
 
     /// Whether the solver passes touch this joint at all.
-    pub fn solved(&self) -> bool {
+    pub(crate) fn solved(&self) -> bool {
         !matches!(self.kind, JointKind::Filter)
     }
 
@@ -319,7 +319,7 @@ impl Joint {
     }
 
     /// Applies last step's impulses at the start of a substep.
-    pub fn warm_start(&mut self, states: &BodyStates<'_>) {
+    pub(crate) fn warm_start(&mut self, states: &BodyStates<'_>) {
         if !self.solved() {
             return;
         }
@@ -342,7 +342,7 @@ impl Joint {
 
     /// One pass over the joint's rows: with `use_bias` the soft solve that also removes
     /// position error, without it the rigid relax pass.
-    pub fn solve(&mut self, states: &BodyStates<'_>, ctx: &JointContext, use_bias: bool) {
+    pub(crate) fn solve(&mut self, states: &BodyStates<'_>, ctx: &JointContext, use_bias: bool) {
         if !self.solved() {
             return;
         }
@@ -367,7 +367,7 @@ impl Joint {
     /// The force (N, on body B, world) and torque (N·m) the joint applied over the last
     /// substep of the last step, from its accumulated impulses (Box2D's
     /// `b2Joint_GetConstraintForce` and `...Torque`).
-    pub fn reaction(&self, inv_h: f32) -> (Vec2, f32) {
+    pub(crate) fn reaction(&self, inv_h: f32) -> (Vec2, f32) {
         let s = &self.step;
         let (impulse, torque) = match &self.kind {
             JointKind::Revolute(j) => j.reaction(),
@@ -380,20 +380,6 @@ impl Joint {
             JointKind::Filter => (Vec2::ZERO, 0.0),
         };
         (impulse * inv_h, torque * inv_h)
-    }
-
-    /// Forgets the accumulated impulses (a body it holds was teleported or changed kind).
-    pub fn reset_impulses(&mut self) {
-        match &mut self.kind {
-            JointKind::Revolute(j) => j.reset(),
-            JointKind::Prismatic(j) => j.reset(),
-            JointKind::Wheel(j) => j.reset(),
-            JointKind::Distance(j) => j.reset(),
-            JointKind::Weld(j) => j.reset(),
-            JointKind::Motor(j) => j.reset(),
-            JointKind::Mouse(j) => j.reset(),
-            JointKind::Filter => {}
-        }
     }
 }
 

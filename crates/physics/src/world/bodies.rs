@@ -16,6 +16,23 @@ use crate::shape::{Aabb, Shape};
 use crate::solver::contact_solver::BodyState;
 use crate::solver::{BodyMotion, SolverBody};
 
+/// Bodies and shapes: created, changed and destroyed between steps, each named by its id;
+/// impulses and velocities set directly. A stale id is refused with
+/// [`WorldError::NoBody`] or [`WorldError::NoShape`], and a value the call cannot use with
+/// [`WorldError::Invalid`], the world unchanged.
+///
+/// ```
+/// use tumble_physics::{BodyDef, PartDef, ShapeDef, StepSettings, Vec2, World, WorldError};
+///
+/// let mut world = World::new(StepSettings::default());
+/// let ball = world.create_body(&BodyDef::new(ShapeDef::Circle { radius: 0.5 }).at(0.0, 4.0)).unwrap();
+/// world.apply_linear_impulse_to_center(ball, Vec2::new(2.0, 0.0), true).unwrap();
+/// let handle = world.create_shape(ball, &PartDef::new(ShapeDef::Circle { radius: 0.2 }).at(0.6, 0.0, 0.0)).unwrap();
+/// assert!(world.mass(ball).unwrap() > 0.8);
+/// world.destroy_shape(handle).unwrap();
+/// world.destroy_body(ball).unwrap();
+/// assert_eq!(world.set_velocity(ball, Vec2::ZERO, 0.0), Err(WorldError::NoBody(ball)));
+/// ```
 impl World {
     /// Creates a body (between steps), checked as a scene body would be (the error names
     /// the slot it would have taken), and returns its id. It takes the lowest free slot.

@@ -163,6 +163,29 @@ pub(super) struct EventLog {
 /// slot then generation. Part of a snapshot: a restored world reports no overlap again.
 pub(super) type SensorOverlaps = BTreeMap<u32, Vec<ShapeRef>>;
 
+/// Events: what the last step (and the changes made since) began, ended and hit, naming
+/// shapes and bodies by id, in an order that is the same on any thread count.
+///
+/// ```
+/// use tumble_physics::{BodyDef, BodyKind, Event, ShapeDef, StepSettings, World};
+///
+/// let mut world = World::new(StepSettings::default());
+/// let ground = world
+///     .create_body(&BodyDef::new(ShapeDef::Box { half_extents: [5.0, 0.5], radius: 0.0 }).kind(BodyKind::Static))
+///     .unwrap();
+/// let ball = world.create_body(&BodyDef::new(ShapeDef::Circle { radius: 0.5 }).at(0.0, 3.0)).unwrap();
+/// let mut began = false;
+/// for _ in 0..90 {
+///     world.step(1.0 / 60.0, 4);
+///     for event in world.events() {
+///         if let Event::ContactBegin { shapes } = event {
+///             assert_eq!([shapes[0].body, shapes[1].body], [ground, ball]);
+///             began = true;
+///         }
+///     }
+/// }
+/// assert!(began);
+/// ```
 impl World {
     /// The last step's events, and any made since by changes between steps (see
     /// [`Event`] for what each means, and the module's documentation for their order,

@@ -14,6 +14,24 @@ use crate::parallel::Spread;
 use crate::scene::BodyKind;
 use crate::solver::{NOT_DYNAMIC, Touching};
 
+/// Joints: made from a [`JointDef`] naming its bodies by id, read and changed by
+/// [`JointId`], destroyed between steps.
+///
+/// ```
+/// use tumble_physics::{BodyDef, BodyKind, JointDef, ShapeDef, StepSettings, World};
+///
+/// let mut world = World::new(StepSettings::default());
+/// let pin = world.create_body(&BodyDef::new(ShapeDef::Circle { radius: 0.1 }).kind(BodyKind::Static).at(0.0, 5.0)).unwrap();
+/// let bob = world.create_body(&BodyDef::new(ShapeDef::Circle { radius: 0.3 }).at(2.0, 5.0)).unwrap();
+/// let hinge = world.create_joint(&JointDef::hinge([pin, bob], [0.0, 5.0])).unwrap();
+/// for _ in 0..60 {
+///     world.step(1.0 / 60.0, 4);
+/// }
+/// assert_eq!(world.joint_bodies(hinge), Ok([pin, bob]));
+/// // The bob swings below the pin, 2 m from it.
+/// let b = world.body(bob).unwrap().position;
+/// assert!(b.y < 5.0 && (b.distance(tumble_physics::Vec2::new(0.0, 5.0)) - 2.0).abs() < 0.01);
+/// ```
 impl World {
     /// The frame (origin and rotation) of body `i`.
     pub(super) fn body_frame(&self, i: usize) -> Transform {

@@ -1,13 +1,16 @@
-//! The world: the stores of bodies, shapes, contacts and islands (here), and the public API
-//! over them: creating, changing and destroying bodies and shapes in `bodies.rs`, reading
-//! them in `read.rs`, the step's stages in `step.rs`, touching, islands and sleep in
-//! `sleep.rs`, snapshots in `snapshot.rs`, the invariants between the stores in
-//! `validate.rs`, the settings in `settings.rs`, the worker threads in `threads.rs` and the
-//! joints in `joints.rs`.
+//! The world: its stores (`stores.rs`: bodies, shapes with their broad-phase proxies,
+//! contacts and joints, each owning its rows and raising its own change flags; islands in
+//! `crate::island`) and the public API over them: creating, changing and destroying bodies
+//! and shapes in `bodies.rs`, reading them in `read.rs`, joints in `joints.rs`, queries in
+//! `query.rs`, events in `events.rs`, snapshots in `snapshot.rs`, the step's stages in
+//! `step.rs`; touching, islands and sleep in `sleep.rs`, continuous collision in
+//! `continuous.rs`, the invariants between the stores in `validate.rs`, the settings in
+//! `settings.rs`, the worker threads in `threads.rs`. docs/architecture.md walks a step
+//! through them.
 //!
-//! Stores are flat arrays indexed by a body's or a shape's slot (its id's `index`), so the
-//! step's stages split them across threads; a destroyed object leaves its slot free for the
-//! next, under a new generation.
+//! Stores are flat arrays indexed by an object's slot (its id's `index`), so the step's
+//! stages split them across threads; a destroyed object leaves its slot free for the next,
+//! under a new generation.
 
 mod bodies;
 mod continuous;
@@ -336,6 +339,20 @@ pub struct World {
     workers: Workers,
 }
 
+/// A world: made empty or from a scene, its settings and its worker threads. A different
+/// thread count never changes a result.
+///
+/// ```
+/// use tumble_physics::{BodyDef, Limits, SceneDef, ShapeDef, World};
+///
+/// let mut scene = SceneDef::new("one ball");
+/// scene.push(BodyDef::new(ShapeDef::Circle { radius: 0.5 }).at(0.0, 3.0));
+/// let mut world = World::from_scene(&scene, &Limits::default()).unwrap();
+/// world.set_thread_count(2);
+/// world.settings_mut().gravity = tumble_physics::Vec2::new(0.0, -9.81);
+/// world.step(scene.dt, scene.substeps);
+/// assert_eq!(world.body_count(), 1);
+/// ```
 impl World {
     /// An empty world with the given settings, on all cores.
     pub fn new(settings: StepSettings) -> World {

@@ -100,6 +100,20 @@ pub(super) fn shapes_overlap(a: &Shape, pose_a: Transform, b: &Shape, pose_b: Tr
             .any(|p| p.separation < 0.0)
 }
 
+/// Queries: ray casts, shape casts and overlaps through the broad phase, each result naming
+/// its shape and body by id, filtered by a [`QueryFilter`].
+///
+/// ```
+/// use tumble_physics::{BodyDef, BodyKind, QueryFilter, ShapeDef, StepSettings, Vec2, World};
+///
+/// let mut world = World::new(StepSettings::default());
+/// let wall = world
+///     .create_body(&BodyDef::new(ShapeDef::Box { half_extents: [0.5, 2.0], radius: 0.0 }).kind(BodyKind::Static).at(5.0, 0.0))
+///     .unwrap();
+/// let hit = world.cast_ray_closest(Vec2::ZERO, Vec2::new(10.0, 0.0), &QueryFilter::default()).unwrap();
+/// assert_eq!(hit.shape.body, wall);
+/// assert!((hit.point.x - 4.5).abs() < 1e-5 && hit.normal == Vec2::new(-1.0, 0.0));
+/// ```
 impl World {
     /// Whether the tree holds every live proxy (no shape added or removed since it was
     /// built).

@@ -10,7 +10,23 @@ use crate::island::NO_ISLAND;
 use crate::profile::StepProfile;
 use crate::scene::BodyKind;
 
-/// Bodies: how many, which, and each one's state.
+/// Bodies: how many, which, and each one's state, by id.
+///
+/// ```
+/// use tumble_physics::{BodyDef, BodyId, BodyKind, Limits, SceneDef, ShapeDef, World};
+///
+/// let mut scene = SceneDef::new("two");
+/// scene.push(BodyDef::new(ShapeDef::Box { half_extents: [5.0, 0.5], radius: 0.0 }).kind(BodyKind::Static));
+/// scene.push(BodyDef::new(ShapeDef::Circle { radius: 0.5 }).at(0.0, 3.0));
+/// let world = World::from_scene(&scene, &Limits::default()).unwrap();
+/// // A scene's bodies have the ids of their places in the file.
+/// let ball = BodyId::scene(1);
+/// assert_eq!(world.body(ball).unwrap().kind, BodyKind::Dynamic);
+/// assert_eq!(world.body_ids().collect::<Vec<_>>(), [BodyId::scene(0), ball]);
+/// for (id, body) in world.bodies() {
+///     assert!(body.position.is_finite(), "{id}");
+/// }
+/// ```
 impl World {
     /// Live bodies.
     pub fn body_count(&self) -> usize {
@@ -154,7 +170,17 @@ impl World {
     }
 }
 
-/// Shapes: each one's geometry, pose and body.
+/// Shapes: each one's geometry, pose and body, by id.
+///
+/// ```
+/// use tumble_physics::{BodyDef, ShapeDef, StepSettings, World};
+///
+/// let mut world = World::new(StepSettings::default());
+/// let ball = world.create_body(&BodyDef::new(ShapeDef::Circle { radius: 0.5 }).at(1.0, 2.0)).unwrap();
+/// let view = world.body_shapes(ball).unwrap().next().unwrap();
+/// assert_eq!(view.body, ball);
+/// assert_eq!(world.shape(view.id).unwrap().transform.p, tumble_physics::Vec2::new(1.0, 2.0));
+/// ```
 impl World {
     /// Live shapes.
     pub fn shape_count(&self) -> usize {

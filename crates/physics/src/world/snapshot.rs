@@ -94,6 +94,21 @@ impl WorldSnapshot {
     }
 }
 
+/// Snapshots: the whole world as plain data, to save, restore and continue bit for bit.
+///
+/// ```
+/// use tumble_physics::{BodyDef, ShapeDef, StepSettings, World};
+///
+/// let mut world = World::new(StepSettings::default());
+/// world.create_body(&BodyDef::new(ShapeDef::Circle { radius: 0.5 }).at(0.0, 3.0)).unwrap();
+/// world.step(1.0 / 60.0, 4);
+/// let mut copy = World::from_snapshot(world.snapshot()).unwrap();
+/// for _ in 0..30 {
+///     world.step(1.0 / 60.0, 4);
+///     copy.step(1.0 / 60.0, 4);
+/// }
+/// assert_eq!(world.state_hash(), copy.state_hash());
+/// ```
 impl World {
     /// The world's state, to save and restore (see [`WorldSnapshot`]).
     pub fn snapshot(&self) -> WorldSnapshot {

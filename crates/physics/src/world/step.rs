@@ -40,6 +40,18 @@ const RECYCLE_COS_ANGLE: f32 = 0.98;
 /// recycles 88% of its contacts (81% at once), three times no more.
 const CLOSING_HEADROOM: f32 = 2.0;
 
+/// The step, and whether a step length can be taken.
+///
+/// ```
+/// use tumble_physics::{BodyDef, ShapeDef, StepSettings, World};
+///
+/// let mut world = World::new(StepSettings::default());
+/// let ball = world.create_body(&BodyDef::new(ShapeDef::Circle { radius: 0.5 }).at(0.0, 10.0)).unwrap();
+/// world.step(1.0 / 60.0, 4);
+/// // A free fall under the default gravity, -10 m/s²: one step of 1/60 s.
+/// assert!((world.body(ball).unwrap().linear_velocity.y + 10.0 / 60.0).abs() < 1e-5);
+/// assert!(!World::steppable(0.0, 4));
+/// ```
 impl World {
     /// Advances the world by `dt` seconds in `substeps` solver substeps.
     ///
