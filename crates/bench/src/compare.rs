@@ -117,13 +117,13 @@ mod imp {
     use tumble_physics::{BodyId, SceneDef, StepSettings, World};
 
     use super::{CompareArgs, ENGINES, Engine};
+    use crate::csv::csv_field;
     use crate::machine;
     use crate::peers::Peer;
     use crate::peers::box2d::{self, Box2d};
     use crate::peers::rapier::{self, Rapier};
     use crate::plot::{self, Chart, Series};
     use crate::scenes;
-    use crate::sweep::csv_field;
     use crate::timing::{median, min};
 
     /// One run's result.

@@ -10,6 +10,7 @@
 //! code 2 (1 for a soak that found a non-finite state).
 
 mod compare;
+mod csv;
 mod machine;
 mod peers;
 mod plot;

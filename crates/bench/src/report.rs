@@ -21,8 +21,8 @@ use std::time::Instant;
 use anyhow::{Context, Result, bail};
 use clap::Args;
 
+use crate::csv::csv_field;
 use crate::machine;
-use crate::sweep::csv_field;
 use cases::Case;
 use engines::{Engine, Knobs};
 

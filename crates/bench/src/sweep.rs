@@ -14,6 +14,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use tumble_physics::{BodyKind, SceneDef};
 
 use crate::compare::{ENGINES, Engine, MAX_PEER_THREADS};
+use crate::csv::csv_field;
 use crate::plot::{self, Chart, Series};
 use crate::scenes;
 use crate::timing::{self, median, min, parse_list};
@@ -408,15 +409,6 @@ fn write_csv(path: &Path, rows: &[Row], args: &SweepArgs) -> Result<()> {
         fs::File::create(path).with_context(|| format!("cannot create {}", path.display()))?;
     file.write_all(text.as_bytes())
         .with_context(|| format!("cannot write {}", path.display()))
-}
-
-/// Quotes a CSV field that needs it.
-pub fn csv_field(s: &str) -> String {
-    if s.contains([',', '"', '\n']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_string()
-    }
 }
 
 /// Groups of one engine's rows of one family, scene and thread count, in first-seen order.

@@ -1088,17 +1088,25 @@ fn junkyard() -> SceneDef {
 }
 
 /// The junkyard's pusher: after the trough and the 200 x 40 pentagons.
-const JUNKYARD_PUSHER: usize = 1 + 200 * 40;
+/// The junkyard's pusher: its index in the scene (the last body).
+pub const JUNKYARD_PUSHER: usize = 1 + 200 * 40;
 
-/// Box2D `StepJunkyard`: the pusher's target is x = 60 sin(0.2 t), reached in one step.
-fn junkyard_step(steps: u64, world: &mut tumble_physics::World) {
+/// Box2D `StepJunkyard`: where the pusher aims before step `steps` (its target position and
+/// angle), reached in one step of the returned length: x = 60 sin(0.2 t), at angle 0. The
+/// one statement of the script, which tumble's script below and the peers' both follow.
+pub fn junkyard_target(steps: u64) -> ([f32; 2], f32, f32) {
     let dt = 1.0 / 60.0;
     let t = dt * steps as f32;
-    let x = 60.0 * (0.2 * t).sin();
+    ([60.0 * (0.2 * t).sin(), 0.0], 0.0, dt)
+}
+
+/// Box2D `StepJunkyard` on a tumble world (see [`junkyard_target`]).
+fn junkyard_step(steps: u64, world: &mut tumble_physics::World) {
+    let (position, angle, dt) = junkyard_target(steps);
     // The scene's pusher, by its scene id: once it is destroyed (in the viewer) the id is
     // stale and the call refused, so no body that took its slot is driven instead.
     let pusher = tumble_physics::BodyId::scene(JUNKYARD_PUSHER);
-    let _ = world.set_target_transform(pusher, tumble_physics::Vec2::new(x, 0.0), 0.0, dt);
+    let _ = world.set_target_transform(pusher, position.into(), angle, dt);
 }
 
 /// Box2D `CreateTumbler`: a 45 x 45 grid of 0.125 half-size boxes, 0.4 m apart, inside a

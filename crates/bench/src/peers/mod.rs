@@ -126,17 +126,16 @@ fn rain(steps: u64, world: &mut dyn Targets) -> Result<()> {
     Ok(())
 }
 
-/// Box2D's `StepJunkyard` (tumble's `junkyard_step`): the pusher, the last body, aims for
-/// x = 60 sin(0.2 t) at angle 0, reached in one 60 Hz step.
+/// Box2D's `StepJunkyard`, as tumble's script states it (`junkyard_target`): the pusher,
+/// by its index in the scene, aims for its target, reached in one step.
 #[cfg(feature = "peers")]
 fn junkyard(steps: u64, world: &mut dyn Targets) -> Result<()> {
-    let dt = 1.0 / 60.0;
-    let t = dt * steps as f32;
-    let x = 60.0 * (0.2 * t).sin();
-    let Some(pusher) = world.body_count().checked_sub(1) else {
+    use tumble_scene::builtin::{JUNKYARD_PUSHER, junkyard_target};
+    let (position, angle, dt) = junkyard_target(steps);
+    if JUNKYARD_PUSHER >= world.body_count() {
         return Ok(());
-    };
-    world.set_target_transform(pusher, [x, 0.0], 0.0, dt)
+    }
+    world.set_target_transform(JUNKYARD_PUSHER, position, angle, dt)
 }
 
 /// A body part's geometry in its body's frame, as both peers build it.
