@@ -2,8 +2,8 @@
 //! the thread count changed mid-run, ends in bit-identical states.
 
 use tumble_physics::{
-    BodyDef, BodyId, BodyKind, Event, EventCursor, JointDef, PartDef, SceneDef, ShapeDef, StepSettings,
-    WideThresholds, World,
+    BodyDef, BodyId, BodyKind, Event, EventCursor, JointDef, PartDef, SceneDef, ShapeDef,
+    StepSettings, WideThresholds, World,
 };
 use tumble_tests::{all_finite, world};
 
