@@ -7,13 +7,13 @@ use super::{
     BodyRecord, BodySim, Contact, ContactKey, NONE, ShapeRecord, World, WorldError, pair_key, step,
 };
 use crate::AABB_MARGIN;
-use crate::body::{BodyMass, part_geometry};
+use crate::body::{BodyMass, BodyState, part_geometry};
+use crate::def::{BodyDef, BodyKind, Limits, PartDef};
 use crate::error::SceneError;
 use crate::id::{BodyId, ShapeId};
 use crate::math::{Rot, Transform};
-use crate::scene::{BodyDef, BodyKind, Limits, PartDef, SceneDef};
+use crate::scene::SceneDef;
 use crate::shape::{Aabb, Shape};
-use crate::solver::contact_solver::BodyState;
 use crate::solver::{BodyMotion, SolverBody};
 
 impl World {

@@ -28,18 +28,19 @@ mod tests;
 use glam::Vec2;
 use rustc_hash::FxHashMap;
 
+use crate::body::BodyState;
 use crate::collision::Manifold;
 use crate::collision::broad_phase::BroadPhase;
 use crate::crew::Crew;
+use crate::def::{BodyKind, Filter, Limits};
 use crate::error::SceneError;
 use crate::id::{BodyId, JointId, ShapeId, Slots};
 use crate::island::Islands;
 use crate::joint::Joint;
 use crate::math::{Rot, Transform};
 use crate::profile::StepProfile;
-use crate::scene::{BodyKind, Filter, Limits, SceneDef};
+use crate::scene::SceneDef;
 use crate::shape::{Aabb, Shape};
-use crate::solver::contact_solver::BodyState;
 use crate::solver::{
     BodyMotion, ContactInput, NOT_DYNAMIC, Solver, SolverBody, SolverContact, Touching,
 };

@@ -1,6 +1,6 @@
 use super::*;
+use crate::def::{BodyDef, ShapeDef};
 use crate::joint::{AngularMotor, JointDef, JointKind, Spring};
-use crate::scene::{BodyDef, ShapeDef};
 
 fn ball_on_ground() -> World {
     let mut w = World::new(StepSettings::default());
