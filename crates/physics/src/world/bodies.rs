@@ -12,7 +12,6 @@ use crate::def::{BodyDef, BodyKind, Limits, PartDef};
 use crate::error::SceneError;
 use crate::id::{BodyId, ShapeId};
 use crate::math::{Rot, Transform};
-use crate::scene::SceneDef;
 use crate::shape::{Aabb, Shape};
 use crate::solver::{BodyMotion, SolverBody};
 
@@ -21,24 +20,7 @@ impl World {
     /// the slot it would have taken), and returns its id. It takes the lowest free slot.
     pub fn create_body(&mut self, def: &BodyDef) -> Result<BodyId, SceneError> {
         let index = self.body_slots.next_index() as usize;
-        let one = SceneDef {
-            bodies: vec![def.clone()],
-            ..SceneDef::new("")
-        };
-        one.validate(&Limits::default()).map_err(|e| match e {
-            SceneError::Body {
-                field,
-                value,
-                allowed,
-                ..
-            } => SceneError::Body {
-                index,
-                field,
-                value,
-                allowed,
-            },
-            other => other,
-        })?;
+        def.validate(index, &Limits::default())?;
         let id = self.insert_body(def, index);
         self.debug_validate();
         Ok(id)
@@ -708,11 +690,7 @@ impl World {
             // which the destroy rule below keeps so; check its numbers as a static part's.
             def.kind = BodyKind::Static;
         }
-        let one = SceneDef {
-            bodies: vec![def.clone()],
-            ..SceneDef::new("")
-        };
-        one.validate(&Limits::default())?;
+        def.validate(0, &Limits::default())?;
         let parts = def.parts();
         let resolved = &parts[0];
         let shapes = part_geometry(resolved).map_err(|e| WorldError::Invalid {
