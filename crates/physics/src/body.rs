@@ -4,10 +4,13 @@
 
 use glam::Vec2;
 
+use crate::def::{BodyDef, ResolvedPart, ShapeDef};
 use crate::error::PolygonError;
 use crate::math::{Rot, Transform};
-use crate::scene::{BodyDef, ResolvedPart, ShapeDef};
 use crate::shape::{Shape, chain_segments};
+
+mod state;
+pub use state::BodyState;
 
 /// A body's mass data, from all its shapes.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -141,7 +144,7 @@ impl BodyMass {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::PartDef;
+    use crate::def::PartDef;
 
     #[test]
     fn one_shape_keeps_its_own_mass_and_inertia_bit_for_bit() {

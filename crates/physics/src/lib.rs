@@ -65,6 +65,7 @@
 mod body;
 pub mod collision;
 mod crew;
+mod def;
 mod error;
 mod id;
 mod island;
@@ -74,10 +75,14 @@ mod parallel;
 mod profile;
 mod scene;
 mod shape;
+mod softness;
 mod solver;
 mod world;
 
 pub use body::BodyMass;
+pub use def::{
+    BodyDef, BodyKind, Filter, Limits, MAX_POLYGON_VERTICES, PartDef, ResolvedPart, ShapeDef,
+};
 pub use error::{PolygonError, SceneError, SettingsError};
 pub use glam::Vec2;
 pub use id::{BodyId, JointId, ShapeId};
@@ -86,10 +91,7 @@ pub use math::{Rot, Transform};
 pub use profile::StepProfile;
 #[cfg(feature = "schema")]
 pub use scene::scene_schema;
-pub use scene::{
-    BodyDef, BodyKind, Filter, Limits, MAX_POLYGON_VERTICES, MAX_SOLVER_PASSES, PartDef,
-    ResolvedPart, SceneDef, ShapeDef, SolverDef,
-};
+pub use scene::{MAX_SOLVER_PASSES, SceneDef, SolverDef};
 pub use shape::{
     Aabb, Capsule, ChainSegment, Circle, MassData, Polygon, Segment, Shape, chain_segments,
 };

@@ -14,8 +14,8 @@ use std::marker::PhantomData;
 use std::ops::Range;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+use crate::body::BodyState;
 use crate::crew::Crew;
-use crate::solver::contact_solver::BodyState;
 
 /// Body states shared by the workers of one solver run.
 #[derive(Clone, Copy)]

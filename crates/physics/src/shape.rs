@@ -13,9 +13,9 @@
 use glam::Vec2;
 
 use crate::LINEAR_SLOP;
+use crate::def::{MAX_POLYGON_VERTICES, ShapeDef};
 use crate::error::PolygonError;
 use crate::math::{Transform, cross, dot, normalize_and_length, right_perp};
-use crate::scene::{MAX_POLYGON_VERTICES, ShapeDef};
 
 /// An axis-aligned bounding box.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]

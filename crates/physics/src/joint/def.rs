@@ -9,6 +9,7 @@ use super::{Distance, Joint, JointKind, JointStep, Motor, Prismatic, Revolute, W
 use crate::error::SceneError;
 use crate::id::BodyId;
 use crate::math::{Rot, Transform};
+use crate::softness::Softness;
 
 /// A spring on a joint's free direction.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -55,12 +56,9 @@ fn present<'de, D: serde::Deserializer<'de>, T: Deserialize<'de>>(
 impl Spring {
     /// The soft-step coefficients of an optional spring for substep `h` (none: zero, a
     /// spring that does nothing).
-    pub(crate) fn softness(
-        spring: Option<Spring>,
-        h: f32,
-    ) -> crate::solver::contact_solver::Softness {
+    pub(crate) fn softness(spring: Option<Spring>, h: f32) -> Softness {
         spring.map_or(Default::default(), |sp| {
-            crate::solver::contact_solver::Softness::new(sp.hertz, sp.damping_ratio, h)
+            Softness::new(sp.hertz, sp.damping_ratio, h)
         })
     }
 }

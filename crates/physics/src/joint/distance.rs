@@ -5,7 +5,7 @@ use glam::Vec2;
 
 use super::{JointContext, JointStep, Pair, Spring, anchors, inverse, limit_row};
 use crate::math::{cross, dot, normalize_and_length};
-use crate::solver::contact_solver::Softness;
+use crate::softness::Softness;
 
 /// Keeps two anchors a length apart.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]

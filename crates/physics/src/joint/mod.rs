@@ -26,9 +26,10 @@ pub use weld::Weld;
 
 use glam::Vec2;
 
+use crate::body::BodyState;
 use crate::math::{Rot, Transform, cross, cross_sv};
 use crate::parallel::BodyStates;
-use crate::solver::contact_solver::{BodyState, Softness};
+use crate::softness::Softness;
 
 /// What a joint does, with its settings and its accumulated impulses.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]

@@ -6,7 +6,7 @@
 use glam::Vec2;
 
 use super::{JointBody, JointContext, JointStep, Pair, inverse, point_mass, solve22, unwind};
-use crate::solver::contact_solver::Softness;
+use crate::softness::Softness;
 
 /// Drives B towards a pose relative to A.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]

@@ -9,7 +9,7 @@ use super::{
     relative_angle,
 };
 use crate::math::{cross, dot};
-use crate::solver::contact_solver::Softness;
+use crate::softness::Softness;
 
 /// The axis in the world this substep, and the lever arms of a force along it and across it.
 struct Axis {

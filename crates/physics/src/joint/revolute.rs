@@ -7,7 +7,7 @@ use super::{
     AngularMotor, JointContext, JointStep, Pair, Spring, anchors, inverse, limit_row, point_mass,
     relative_angle, solve22, unwind,
 };
-use crate::solver::contact_solver::Softness;
+use crate::softness::Softness;
 
 /// A hinge.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]

@@ -4,7 +4,8 @@
 use glam::Vec2;
 
 use super::{AngularMotor, JointDef, JointKind, LinearMotor, Spring};
-use crate::scene::{BodyDef, BodyKind, SceneDef, ShapeDef};
+use crate::def::{BodyDef, BodyKind, ShapeDef};
+use crate::scene::SceneDef;
 use crate::{BodyId, Limits, SceneError, World};
 
 const DT: f32 = 1.0 / 60.0;

@@ -5,7 +5,7 @@
 use glam::Vec2;
 
 use super::{JointContext, JointStep, Pair, anchors, inverse, point_mass, relative_angle, solve22};
-use crate::solver::contact_solver::Softness;
+use crate::softness::Softness;
 
 /// Glues B to A.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]

@@ -21,13 +21,15 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use glam::Vec2;
 
+use crate::body::BodyState;
 use crate::collision::Manifold;
 use crate::joint::{Joint, JointBody, JointContext};
 use crate::math::dot;
 use crate::parallel::{
     BodyStates, SharedSlice, Spread, StageBoard, for_each_part, for_parts, worker_range,
 };
-use contact_solver::{BodyState, ConstraintPoint, ContactConstraint, Softness};
+use crate::softness::Softness;
+use contact_solver::{ConstraintPoint, ContactConstraint};
 use graph_color::{COLOR_COUNT, GraphColoring, OVERFLOW};
 use wide::{LANES, LaneIndex, LaneInput, LaneWriter, WideConstraint};
 

@@ -15,11 +15,13 @@ use wide::{f32x4, f32x8};
 
 use super::ContactInput;
 use super::PointResult;
-use super::contact_solver::{BodyState, Softness, point_terms};
+use super::contact_solver::point_terms;
 #[cfg(target_arch = "x86_64")]
 use super::lanes::Avx;
 use super::lanes::Lanes;
+use crate::body::BodyState;
 use crate::parallel::BodyStates;
+use crate::softness::Softness;
 
 /// Lanes per wide constraint.
 pub const LANES: usize = 8;

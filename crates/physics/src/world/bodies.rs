@@ -7,13 +7,12 @@ use super::{
     BodyRecord, BodySim, Contact, ContactKey, NONE, ShapeRecord, World, WorldError, pair_key, step,
 };
 use crate::AABB_MARGIN;
-use crate::body::{BodyMass, part_geometry};
+use crate::body::{BodyMass, BodyState, part_geometry};
+use crate::def::{BodyDef, BodyKind, Limits, PartDef};
 use crate::error::SceneError;
 use crate::id::{BodyId, ShapeId};
 use crate::math::{Rot, Transform};
-use crate::scene::{BodyDef, BodyKind, Limits, PartDef, SceneDef};
 use crate::shape::{Aabb, Shape};
-use crate::solver::contact_solver::BodyState;
 use crate::solver::{BodyMotion, SolverBody};
 
 /// Bodies and shapes: created, changed and destroyed between steps, each named by its id;
@@ -38,24 +37,7 @@ impl World {
     /// the slot it would have taken), and returns its id. It takes the lowest free slot.
     pub fn create_body(&mut self, def: &BodyDef) -> Result<BodyId, SceneError> {
         let index = self.bodies.slots.next_index() as usize;
-        let one = SceneDef {
-            bodies: vec![def.clone()],
-            ..SceneDef::new("")
-        };
-        one.validate(&Limits::default()).map_err(|e| match e {
-            SceneError::Body {
-                field,
-                value,
-                allowed,
-                ..
-            } => SceneError::Body {
-                index,
-                field,
-                value,
-                allowed,
-            },
-            other => other,
-        })?;
+        def.validate(index, &Limits::default())?;
         let id = self.insert_body(def, index);
         self.debug_validate();
         Ok(id)
@@ -157,7 +139,7 @@ impl World {
         body: u32,
         shape: Shape,
         local: Transform,
-        part: &crate::scene::ResolvedPart<'_>,
+        part: &crate::def::ResolvedPart<'_>,
     ) -> ShapeId {
         let (index, generation, new) = self.shapes.slots.take();
         let record = ShapeRecord {
@@ -646,7 +628,7 @@ impl World {
     /// Adds a shape to a body (between steps), checked as a scene part would be; the body's
     /// mass data follow. A chain is several shapes: use [`World::create_shapes`].
     pub fn create_shape(&mut self, body: BodyId, part: &PartDef) -> Result<ShapeId, WorldError> {
-        if matches!(part.shape, crate::scene::ShapeDef::Chain { .. }) {
+        if matches!(part.shape, crate::def::ShapeDef::Chain { .. }) {
             return Err(WorldError::Invalid {
                 what: "shape".into(),
                 why: "a chain is one shape per segment: add it with create_shapes".into(),
@@ -671,11 +653,7 @@ impl World {
             // which the destroy rule below keeps so; check its numbers as a static part's.
             def.kind = BodyKind::Static;
         }
-        let one = SceneDef {
-            bodies: vec![def.clone()],
-            ..SceneDef::new("")
-        };
-        one.validate(&Limits::default())?;
+        def.validate(0, &Limits::default())?;
         let parts = def.parts();
         let resolved = &parts[0];
         let shapes = part_geometry(resolved).map_err(|e| WorldError::Invalid {

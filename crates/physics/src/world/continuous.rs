@@ -13,9 +13,9 @@
 use super::World;
 use super::query::QueryFilter;
 use crate::collision::distance::{Impact, Proxy, Sweep, time_of_impact};
+use crate::def::BodyKind;
 use crate::math::{Transform, cross};
 use crate::parallel::{Spread, for_each_part};
-use crate::scene::BodyKind;
 use crate::shape::{Aabb, Shape};
 
 impl World {
@@ -191,8 +191,8 @@ impl World {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::def::{BodyDef, ShapeDef};
     use crate::id::BodyId;
-    use crate::scene::{BodyDef, ShapeDef};
     use crate::world::StepSettings;
     use glam::Vec2;
 

@@ -18,9 +18,9 @@ use glam::Vec2;
 
 use super::query::shapes_overlap;
 use super::{NONE, World, pair_key};
+use crate::def::BodyKind;
 use crate::id::{BodyId, ShapeId};
 use crate::math::{Rot, Transform};
-use crate::scene::BodyKind;
 
 /// A shape as an event names it: its id, its body's id, and its place among the body's parts
 /// (a scene's `shapes` index; 0 for a body with `shape`). Kept whole in the event, so an event
@@ -467,7 +467,7 @@ mod tests {
 #[cfg(test)]
 mod world_tests {
     use super::*;
-    use crate::scene::{BodyDef, Filter, PartDef, ShapeDef};
+    use crate::def::{BodyDef, Filter, PartDef, ShapeDef};
     use crate::world::StepSettings;
 
     const DT: f32 = 1.0 / 60.0;

@@ -5,13 +5,13 @@
 use glam::Vec2;
 
 use super::{World, WorldError, pair_key};
+use crate::def::BodyKind;
 use crate::id::{BodyId, JointId};
 use crate::joint::chain::{self, Link};
 use crate::joint::def::JointFrame;
 use crate::joint::{Joint, JointBody, JointContext, JointDef, JointKind, Mouse};
 use crate::math::Transform;
 use crate::parallel::Spread;
-use crate::scene::BodyKind;
 use crate::solver::{NOT_DYNAMIC, Touching};
 
 /// Joints: made from a [`JointDef`] naming its bodies by id, read and changed by

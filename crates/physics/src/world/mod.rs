@@ -32,11 +32,12 @@ mod tests;
 use glam::Vec2;
 
 use crate::collision::Manifold;
+use crate::def::{BodyKind, Filter, Limits};
 use crate::error::SceneError;
 use crate::id::{BodyId, JointId, ShapeId};
 use crate::island::Islands;
 use crate::math::{Rot, Transform};
-use crate::scene::{BodyKind, Filter, Limits, SceneDef};
+use crate::scene::SceneDef;
 use crate::shape::{Aabb, Shape};
 use crate::solver::{ContactInput, NOT_DYNAMIC, Solver, SolverBody, SolverContact};
 

@@ -14,8 +14,8 @@ use super::events::ShapeRef;
 use crate::collision::broad_phase::{BroadPhase, ray_may_cross};
 use crate::collision::distance::{Impact, Proxy, Sweep, distance, time_of_impact};
 use crate::collision::{Ray, collide, ray_cast};
+use crate::def::Filter;
 use crate::math::Transform;
-use crate::scene::Filter;
 use crate::shape::{Aabb, Shape};
 
 /// Which shapes a query sees (Box2D's `b2QueryFilter`): a shape is seen when its category is
@@ -441,8 +441,8 @@ impl World {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::def::{BodyDef, BodyKind, PartDef, ShapeDef};
     use crate::id::BodyId;
-    use crate::scene::{BodyDef, BodyKind, PartDef, ShapeDef};
     use crate::world::StepSettings;
 
     fn unit_box() -> ShapeDef {

@@ -5,10 +5,10 @@ use glam::Vec2;
 
 use super::{BodyView, ContactView, QueryFilter, ShapeRef, ShapeView, World, WorldError};
 use crate::collision::broad_phase::BroadPhase;
+use crate::def::BodyKind;
 use crate::id::{BodyId, ShapeId};
 use crate::island::NO_ISLAND;
 use crate::profile::StepProfile;
-use crate::scene::BodyKind;
 
 /// Bodies: how many, which, and each one's state, by id.
 ///

@@ -10,8 +10,8 @@
 use glam::Vec2;
 
 use super::{ContactKey, World, pair_key};
+use crate::def::BodyKind;
 use crate::island::NO_ISLAND;
-use crate::scene::BodyKind;
 use crate::solver::NOT_DYNAMIC;
 
 impl World {

@@ -3,12 +3,12 @@
 use super::{
     BodyRecord, BodySim, Contact, ContactKey, NONE, ShapeRecord, StepSettings, World, pair_key,
 };
+use crate::body::BodyState;
+use crate::def::BodyKind;
 use crate::error::SceneError;
 use crate::id::Slots;
 use crate::island::Islands;
-use crate::scene::BodyKind;
 use crate::shape::{Aabb, Shape};
-use crate::solver::contact_solver::BodyState;
 use crate::solver::{BodyMotion, SolverBody};
 
 /// Everything that decides a world's future, as plain serde data: bodies, shapes, ids and

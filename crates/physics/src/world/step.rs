@@ -18,13 +18,14 @@ use web_time::Instant;
 
 use super::{BodySim, Contact, ContactCache, ContactKey, ShapeRecord, World, pair_key};
 use crate::SPECULATIVE_DISTANCE;
+use crate::body::BodyState;
 use crate::collision::{Manifold, collide};
+use crate::def::BodyKind;
 use crate::math::{Transform, cross_sv, dot};
 use crate::parallel::{SharedSlice, Spread, for_each_part, for_parts};
 use crate::profile::StepProfile;
-use crate::scene::BodyKind;
 use crate::shape::{Aabb, Shape};
-use crate::solver::contact_solver::{BodyState, Softness};
+use crate::softness::Softness;
 use crate::solver::{SolverParams, SubstepParams, Touching};
 
 /// Contacts whose relative pose moved less than this keep their manifold (Box2D's

@@ -14,16 +14,16 @@ use rustc_hash::FxHashMap;
 
 use super::joints::JointMeta;
 use super::{BodyRecord, BodySim, Contact, ContactKey, ShapeRecord};
+use crate::body::BodyState;
 use crate::collision::broad_phase::BroadPhase;
 use crate::crew::Crew;
+use crate::def::BodyKind;
 use crate::id::Slots;
 use crate::joint::Joint;
 use crate::joint::chain::Link;
 use crate::math::Transform;
 use crate::profile::StepProfile;
-use crate::scene::BodyKind;
 use crate::shape::{Aabb, Shape};
-use crate::solver::contact_solver::BodyState;
 use crate::solver::{BodyMotion, SolverBody, Touching};
 
 /// Bodies, by slot (a body's id's `index`).

@@ -1,6 +1,6 @@
 use super::*;
+use crate::def::{BodyDef, ShapeDef};
 use crate::joint::{AngularMotor, JointDef, JointKind, Spring};
-use crate::scene::{BodyDef, ShapeDef};
 
 fn ball_on_ground() -> World {
     let mut w = World::new(StepSettings::default());
@@ -421,7 +421,7 @@ fn hinge_net(rows: bool) -> World {
             .at(7.5, 0.5),
         )
         .unwrap();
-    let filter = crate::scene::Filter {
+    let filter = crate::def::Filter {
         category: 2,
         mask: !2,
         group: 0,
@@ -815,7 +815,7 @@ fn a_stale_id_is_refused_by_every_call_and_never_names_the_slots_next_holder() {
     assert_eq!(w.set_kind(ball, BodyKind::Static), no_body);
     assert_eq!(w.set_bullet(ball, true), no_body);
     assert_eq!(w.set_user_data(ball, 7), no_body);
-    let part = crate::scene::PartDef::new(ShapeDef::Circle { radius: 0.1 });
+    let part = crate::def::PartDef::new(ShapeDef::Circle { radius: 0.1 });
     assert_eq!(w.create_shape(ball, &part).map(|_| ()), no_body);
     assert_eq!(
         w.create_joint(&JointDef::hinge([ground, ball], [0.0, 1.0]))

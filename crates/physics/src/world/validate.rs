@@ -2,8 +2,8 @@
 //! [`World::validate`] after every change and step, and debug builds after every API change.
 
 use super::{ContactKey, NONE, World, pair_key};
+use crate::def::BodyKind;
 use crate::island::NO_ISLAND;
-use crate::scene::BodyKind;
 use crate::shape::Aabb;
 
 impl World {
