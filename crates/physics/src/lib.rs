@@ -64,19 +64,18 @@
 
 mod body;
 pub mod collision;
-mod crew;
 mod def;
 mod error;
 mod id;
 mod island;
 pub mod joint;
 mod math;
-mod parallel;
 mod profile;
 mod scene;
 mod shape;
 mod softness;
 mod solver;
+mod threads;
 mod world;
 
 pub use body::BodyMass;
@@ -95,10 +94,10 @@ pub use scene::{MAX_SOLVER_PASSES, SceneDef, SolverDef};
 pub use shape::{
     Aabb, Capsule, ChainSegment, Circle, MassData, Polygon, Segment, Shape, chain_segments,
 };
+pub use threads::{SpawnWorker, default_thread_count, set_thread_source};
 pub use world::{
     BodyMove, BodyView, ContactView, Event, EventCursor, QueryFilter, RayHit, ShapeRef, ShapeView,
-    SpawnWorker, StepSettings, WideThresholds, World, WorldError, WorldSnapshot,
-    default_thread_count, set_thread_source,
+    StepSettings, WideThresholds, World, WorldError, WorldSnapshot,
 };
 
 /// Length tolerance used by collision (Box2D's `B2_LINEAR_SLOP`, 5 mm).

@@ -1,5 +1,5 @@
 //! A body's solver state: what the substep loop reads and writes of a body, shared by the
-//! contact solver, the joints and the workers' shared accessors (`crate::parallel`).
+//! contact solver, the joints and the workers' shared accessors (`crate::threads::parallel`).
 
 use glam::Vec2;
 

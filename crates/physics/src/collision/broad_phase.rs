@@ -10,8 +10,8 @@
 
 use glam::Vec2;
 
-use crate::parallel::{Spread, for_parts};
 use crate::shape::Aabb;
+use crate::threads::parallel::{Spread, for_parts};
 
 /// Most proxies in a leaf: below this a linear scan beats descending further.
 const LEAF_SIZE: usize = 4;
@@ -599,7 +599,7 @@ mod tests {
         }
         assert!(brute.len() > 100, "the scatter overlaps enough to test");
         assert_eq!(found, brute);
-        let crew = crate::crew::Crew::start(crate::crew::tests::pool(1));
+        let crew = crate::threads::crew::Crew::start(crate::threads::crew::tests::pool(1));
         for spread in [Spread::INLINE, Spread::over(&crew)] {
             let pair = |p: u32, q: u32| Some((p.min(q), p.max(q)));
             let mut parallel = bp.overlapping_pairs_parallel(&aabbs, spread, &pair);

@@ -17,7 +17,7 @@
 use glam::Vec2;
 
 use super::{Joint, JointKind, JointStep, Pair};
-use crate::parallel::BodyStates;
+use crate::threads::parallel::BodyStates;
 
 /// Longest run solved as one system; a longer chain is solved in runs of this many joints,
 /// one after the other (each run exact, the runs coupled by Gauss-Seidel): the elimination's

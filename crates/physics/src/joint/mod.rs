@@ -28,8 +28,8 @@ use glam::Vec2;
 
 use crate::body::BodyState;
 use crate::math::{Rot, Transform, cross, cross_sv};
-use crate::parallel::BodyStates;
 use crate::softness::Softness;
+use crate::threads::parallel::BodyStates;
 
 /// What a joint does, with its settings and its accumulated impulses.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]

@@ -6,8 +6,8 @@ use glam::Vec2;
 
 use crate::body::BodyState;
 use crate::math::{cross, cross_sv, dot, right_perp};
-use crate::parallel::BodyStates;
 use crate::softness::Softness;
+use crate::threads::parallel::BodyStates;
 
 /// One point of a contact constraint.
 #[derive(Clone, Copy, Debug, Default)]

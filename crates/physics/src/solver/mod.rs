@@ -8,7 +8,7 @@
 //!    then **store** the accumulated impulses into the contacts for the next step's warm start.
 //!
 //! Each colour's constraints touch disjoint dynamic bodies; the passes walk colours in order,
-//! each colour a stage of the plan that [`crate::parallel::StageBoard`] runs on the workers.
+//! each colour a stage of the plan that [`crate::threads::parallel::StageBoard`] runs on the workers.
 
 pub mod contact_solver;
 pub mod graph_color;
@@ -25,10 +25,10 @@ use crate::body::BodyState;
 use crate::collision::Manifold;
 use crate::joint::{Joint, JointBody, JointContext};
 use crate::math::dot;
-use crate::parallel::{
+use crate::softness::Softness;
+use crate::threads::parallel::{
     BodyStates, SharedSlice, Spread, StageBoard, for_each_part, for_parts, worker_range,
 };
-use crate::softness::Softness;
 use contact_solver::{ConstraintPoint, ContactConstraint};
 use graph_color::{COLOR_COUNT, GraphColoring, OVERFLOW};
 use wide::{LANES, LaneIndex, LaneInput, LaneWriter, WideConstraint};
@@ -296,7 +296,7 @@ impl Solver {
                 // only overlap (smash: a third touch), which the hardware does not
                 // prefetch: 30% of this loop waited on the contact's first line.
                 if let Some(ahead) = touching.get(k + 8) {
-                    crate::parallel::prefetch(&contacts[ahead.contact as usize]);
+                    crate::threads::parallel::prefetch(&contacts[ahead.contact as usize]);
                 }
                 let at = lane_of[k];
                 if at == NO_LANE {
@@ -642,7 +642,7 @@ impl Solver {
                     && ahead != NO_LANE
                 {
                     let i = wide[(ahead >> 3) as usize].contact_of((ahead & 7) as usize);
-                    crate::parallel::prefetch_ptr(contacts.as_ptr_at(i as usize));
+                    crate::threads::parallel::prefetch_ptr(contacts.as_ptr_at(i as usize));
                 }
                 let at = lane_of[k];
                 if at == NO_LANE {

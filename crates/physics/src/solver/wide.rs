@@ -20,8 +20,8 @@ use super::contact_solver::point_terms;
 use super::lanes::Avx;
 use super::lanes::Lanes;
 use crate::body::BodyState;
-use crate::parallel::BodyStates;
 use crate::softness::Softness;
+use crate::threads::parallel::BodyStates;
 
 /// Lanes per wide constraint.
 pub const LANES: usize = 8;

@@ -16,7 +16,7 @@ use super::lanes::Avx;
 use super::lanes::{Lanes, atan2};
 use super::wide::{LANES, WideBody, gather, scatter};
 use crate::joint::{Joint, JointContext, Revolute};
-use crate::parallel::BodyStates;
+use crate::threads::parallel::BodyStates;
 
 /// A pass of the joint solver: of each joint in turn, and of [`hinges`] eight at a time.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -15,8 +15,8 @@ use super::query::QueryFilter;
 use crate::collision::distance::{Impact, Proxy, Sweep, time_of_impact};
 use crate::def::BodyKind;
 use crate::math::{Transform, cross};
-use crate::parallel::{Spread, for_each_part};
 use crate::shape::{Aabb, Shape};
+use crate::threads::parallel::{Spread, for_each_part};
 
 impl World {
     /// Sweeps each fast body of `fast` (slots; their poses at the step's start are in

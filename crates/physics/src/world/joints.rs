@@ -11,8 +11,8 @@ use crate::joint::chain::{self, Link};
 use crate::joint::def::JointFrame;
 use crate::joint::{Joint, JointBody, JointContext, JointDef, JointKind, Mouse};
 use crate::math::Transform;
-use crate::parallel::Spread;
 use crate::solver::{NOT_DYNAMIC, Touching};
+use crate::threads::parallel::Spread;
 
 /// Joints: made from a [`JointDef`] naming its bodies by id, read and changed by
 /// [`JointId`], destroyed between steps.

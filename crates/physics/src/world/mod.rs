@@ -5,7 +5,7 @@
 //! `query.rs`, events in `events.rs`, snapshots in `snapshot.rs`, the step's stages in
 //! `step.rs`; touching, islands and sleep in `sleep.rs`, continuous collision in
 //! `continuous.rs`, the invariants between the stores in `validate.rs`, the settings in
-//! `settings.rs`, the worker threads in `threads.rs`. docs/architecture.md walks a step
+//! `settings.rs`; the worker threads in `crate::threads`. docs/architecture.md walks a step
 //! through them.
 //!
 //! Stores are flat arrays indexed by an object's slot (its id's `index`), so the step's
@@ -23,7 +23,6 @@ mod sleep;
 mod snapshot;
 mod step;
 mod stores;
-mod threads;
 mod validate;
 
 #[cfg(test)]
@@ -41,13 +40,12 @@ use crate::scene::SceneDef;
 use crate::shape::{Aabb, Shape};
 use crate::solver::{ContactInput, NOT_DYNAMIC, Solver, SolverBody, SolverContact};
 
+use crate::threads::{THREAD_SOURCE, default_thread_count, start_crew};
 pub use events::{BodyMove, Event, EventCursor, ShapeRef};
 pub use query::{QueryFilter, RayHit};
 pub use settings::{StepSettings, WideThresholds};
 pub use snapshot::WorldSnapshot;
 use stores::{Bodies, Contacts, Joints, Shapes, Stats, Sweeps, Workers};
-pub use threads::{SpawnWorker, default_thread_count, set_thread_source};
-use threads::{THREAD_SOURCE, start_crew};
 
 /// "None" in the linked lists of shapes.
 const NONE: u32 = u32::MAX;

@@ -22,11 +22,11 @@ use crate::body::BodyState;
 use crate::collision::{Manifold, collide};
 use crate::def::BodyKind;
 use crate::math::{Transform, cross_sv, dot};
-use crate::parallel::{SharedSlice, Spread, for_each_part, for_parts};
 use crate::profile::StepProfile;
 use crate::shape::{Aabb, Shape};
 use crate::softness::Softness;
 use crate::solver::{SolverParams, SubstepParams, Touching};
+use crate::threads::parallel::{SharedSlice, Spread, for_each_part, for_parts};
 
 /// Contacts whose relative pose moved less than this keep their manifold (Box2D's
 /// `B2_CONTACT_RECYCLE_DISTANCE`, 10 slops).

@@ -16,7 +16,6 @@ use super::joints::JointMeta;
 use super::{BodyRecord, BodySim, Contact, ContactKey, ShapeRecord};
 use crate::body::BodyState;
 use crate::collision::broad_phase::BroadPhase;
-use crate::crew::Crew;
 use crate::def::BodyKind;
 use crate::id::Slots;
 use crate::joint::Joint;
@@ -25,6 +24,7 @@ use crate::math::Transform;
 use crate::profile::StepProfile;
 use crate::shape::{Aabb, Shape};
 use crate::solver::{BodyMotion, SolverBody, Touching};
+use crate::threads::crew::Crew;
 
 /// Bodies, by slot (a body's id's `index`).
 #[derive(Default)]

@@ -1,7 +1,7 @@
 //! The step's worker threads: how many, where they come from (std threads, or the web's Web
 //! Workers), and the crew that shares a wide step's stages.
 
-use crate::crew::Crew;
+use super::crew::Crew;
 
 /// Number of cores, the default thread count (as [`set_thread_source`] says, where it was
 /// called). Read once: the solver asks every step, and the standard library's answer reads
@@ -17,7 +17,7 @@ pub fn default_thread_count() -> usize {
 /// Starts one worker thread of a step's pool (a rayon spawn handler).
 pub type SpawnWorker = fn(rayon::ThreadBuilder) -> std::io::Result<()>;
 
-pub(super) static THREAD_SOURCE: std::sync::OnceLock<(usize, Option<SpawnWorker>)> =
+pub(crate) static THREAD_SOURCE: std::sync::OnceLock<(usize, Option<SpawnWorker>)> =
     std::sync::OnceLock::new();
 
 /// For a platform where `std::thread` cannot start threads (the web, whose threads are Web
@@ -30,7 +30,7 @@ pub fn set_thread_source(cores: usize, spawn: Option<SpawnWorker>) -> bool {
 }
 
 /// The crew for `threads` threads: the caller's and `threads - 1` followers.
-pub(super) fn start_crew(threads: usize) -> Option<std::sync::Arc<Crew>> {
+pub(crate) fn start_crew(threads: usize) -> Option<std::sync::Arc<Crew>> {
     if threads <= 1 {
         return None;
     }

@@ -15,7 +15,7 @@ use std::ops::Range;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use crate::body::BodyState;
-use crate::crew::Crew;
+use crate::threads::crew::Crew;
 
 /// Body states shared by the workers of one solver run.
 #[derive(Clone, Copy)]
@@ -689,7 +689,7 @@ mod tests {
         );
         assert_eq!(sum, 499_500);
         assert_eq!(*parts.lock().unwrap(), vec![0..1000]);
-        let crew = Crew::start(crate::crew::tests::pool(2));
+        let crew = Crew::start(crate::threads::crew::tests::pool(2));
         let three = Spread::over(&crew);
         assert!(!three.goes_wide(79, 40) && three.goes_wide(80, 40));
 

@@ -18,7 +18,7 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicPtr, AtomicUsize, Ordering};
 
-use crate::parallel::Parking;
+use crate::threads::parallel::Parking;
 
 /// A job as the followers see it: the leader's closure, lifetime erased (see `Crew::run`).
 type JobFn = dyn Fn() + Sync;
