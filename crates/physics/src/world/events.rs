@@ -152,8 +152,8 @@ pub(super) struct EventLog {
     /// pushed yet, each with the world's step count when it began, in the order they began:
     /// the hit candidates (see `gather_hits`).
     pub unpushed: Vec<(u64, u64)>,
-    /// The bodies the last step moved, ascending.
-    pub moved_bodies: Vec<BodyId>,
+    /// The bodies the last step moved, ascending (read as `BodyMove`s by `World::body_moves`).
+    pub body_moves: Vec<BodyId>,
     /// Scratch: a sensor's overlaps this step (kept, so that a steady step allocates
     /// nothing).
     pub found: Vec<ShapeRef>,
@@ -198,7 +198,7 @@ impl World {
     /// now and whether they fell asleep. A body destroyed since is left out.
     pub fn body_moves(&self) -> impl Iterator<Item = BodyMove> + '_ {
         self.events
-            .moved_bodies
+            .body_moves
             .iter()
             .filter(|id| self.bodies.slots.holds(id.index, id.generation))
             .map(|&id| {
@@ -331,10 +331,10 @@ impl World {
     }
 
     /// Notes the bodies this step moved (the awake set finalize walked).
-    pub(super) fn note_moved_bodies(&mut self) {
+    pub(super) fn note_body_moves(&mut self) {
         let log = &mut self.events;
-        log.moved_bodies.clear();
-        log.moved_bodies
+        log.body_moves.clear();
+        log.body_moves
             .extend(self.bodies.awake_set.iter().map(|&b| BodyId {
                 index: b,
                 generation: self.bodies.slots.generation(b as usize),

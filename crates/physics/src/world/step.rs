@@ -81,7 +81,7 @@ impl World {
             && self.bodies.kinematic_count == 0
             && self.shapes.moved_proxies.is_empty()
         {
-            self.events.moved_bodies.clear();
+            self.events.body_moves.clear();
             // A shape destroyed in a sensor still ends its overlap.
             self.overlap_sensors();
             self.stats.steps += 1;
@@ -117,7 +117,7 @@ impl World {
 
         let t = Instant::now();
         self.finalize(dt, spread);
-        self.note_moved_bodies();
+        self.note_body_moves();
         self.update_sleep();
         profile.finalize_ms = ms(t);
 
