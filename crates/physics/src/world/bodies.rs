@@ -3,9 +3,7 @@
 
 use glam::Vec2;
 
-use super::{
-    BodyRecord, BodySim, Contact, ContactKey, NONE, ShapeRecord, World, WorldError, pair_key, step,
-};
+use super::{BodyRecord, BodySim, Contact, NONE, ShapeRecord, World, WorldError, step};
 use crate::AABB_MARGIN;
 use crate::body::{BodyMass, BodyState, part_geometry};
 use crate::def::{BodyDef, BodyKind, Limits, PartDef};
@@ -266,19 +264,8 @@ impl World {
     /// `body`'s. A body just made has no contacts yet and skips this scan of them all.
     fn refresh_contact_masses(&mut self, body: u32) {
         // (The colouring needs no telling: it is checked against the touching pairs.)
-        self.contacts.awake_stale = true;
-        for (c, key) in self.contacts.list.iter_mut().zip(&mut self.contacts.keys) {
-            if c.body_a == body || c.body_b == body {
-                c.masses = [
-                    self.bodies.masses[c.body_a as usize],
-                    self.bodies.masses[c.body_b as usize],
-                ];
-                *key = ContactKey {
-                    touching: key.touching,
-                    ..ContactKey::of(c, &self.bodies.awake)
-                };
-            }
-        }
+        self.contacts
+            .refresh_masses(body, &self.bodies.masses, &self.bodies.awake);
     }
 
     /// Whether every pair of body `i`'s shapes goes by swept boxes alone: a static body's
@@ -748,18 +735,7 @@ impl World {
             self.contacts.keys[keep] = self.contacts.keys[k];
             keep += 1;
         }
-        if keep != self.contacts.list.len() {
-            self.contacts.awake_stale = true;
-            self.contacts.list.truncate(keep);
-            self.contacts.keys.truncate(keep);
-            self.contacts.pairs = self
-                .contacts
-                .list
-                .iter()
-                .enumerate()
-                .map(|(k, c)| (pair_key(c.shape_a, c.shape_b), k as u32))
-                .collect();
-        }
+        self.contacts.truncate(keep);
     }
 }
 

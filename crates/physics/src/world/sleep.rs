@@ -9,7 +9,7 @@
 
 use glam::Vec2;
 
-use super::{ContactKey, World, pair_key};
+use super::World;
 use crate::def::BodyKind;
 use crate::island::NO_ISLAND;
 use crate::solver::NOT_DYNAMIC;
@@ -59,20 +59,7 @@ impl World {
                 self.islands.unlink(a, b);
             }
         }
-        for k in (0..self.contacts.list.len()).rev() {
-            if self.contacts.keys[k].remove {
-                self.contacts.awake_stale = true;
-                self.contacts.keys.swap_remove(k);
-                let c = self.contacts.list.swap_remove(k);
-                self.contacts.pairs.remove(&pair_key(c.shape_a, c.shape_b));
-                if k < self.contacts.list.len() {
-                    let moved = &self.contacts.list[k];
-                    self.contacts
-                        .pairs
-                        .insert(pair_key(moved.shape_a, moved.shape_b), k as u32);
-                }
-            }
-        }
+        self.contacts.remove_marked();
         if woke {
             self.refresh_contact_keys();
         }
@@ -281,13 +268,7 @@ impl World {
 
     /// Recomputes each contact's `frozen` and `sleeping` flags from the awake flags.
     pub(super) fn refresh_contact_keys(&mut self) {
-        self.contacts.awake_stale = true;
-        for (c, key) in self.contacts.list.iter().zip(&mut self.contacts.keys) {
-            let fresh = ContactKey::of(c, &self.bodies.awake);
-            key.frozen = fresh.frozen;
-            key.sleeping = fresh.sleeping;
-            key.retest |= fresh.frozen;
-        }
+        self.contacts.refresh_sleep(&self.bodies.awake);
     }
 
     /// Rebuilds the awake set's body list if it is stale.

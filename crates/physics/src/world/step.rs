@@ -367,15 +367,7 @@ impl World {
                 self.bodies.masses[rb.body as usize],
             ],
         };
-        let k = self.contacts.list.len() as u32;
-        self.contacts.pairs.insert(pair_key(a, b), k);
-        let key = ContactKey::of(&contact, &self.bodies.awake);
-        // The newest contact comes last, so the ascending list stays ascending.
-        if !key.frozen && !self.contacts.awake_stale {
-            self.contacts.awake.push(k);
-        }
-        self.contacts.keys.push(key);
-        self.contacts.list.push(contact);
+        self.contacts.push(contact, &self.bodies.awake);
     }
 
     /// Narrow phase (reads poses, velocities, shapes, fat boxes; writes each contact's

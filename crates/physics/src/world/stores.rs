@@ -13,7 +13,7 @@ use std::sync::Arc;
 use rustc_hash::FxHashMap;
 
 use super::joints::JointMeta;
-use super::{BodyRecord, BodySim, Contact, ContactKey, ShapeRecord};
+use super::{BodyRecord, BodySim, Contact, ContactKey, ShapeRecord, pair_key};
 use crate::body::BodyState;
 use crate::collision::broad_phase::BroadPhase;
 use crate::def::BodyKind;
@@ -216,6 +216,82 @@ pub(super) struct Contacts {
     pub pairs: FxHashMap<u64, u32>,
     /// This step's touching contacts, in contact order (reused).
     pub touching: Vec<Touching>,
+}
+
+impl Contacts {
+    /// Appends a new contact, with its key and its pair, and lists it awake unless its
+    /// bodies sleep.
+    pub fn push(&mut self, contact: Contact, awake: &[bool]) {
+        let k = self.list.len() as u32;
+        self.pairs
+            .insert(pair_key(contact.shape_a, contact.shape_b), k);
+        let key = ContactKey::of(&contact, awake);
+        // The newest contact comes last, so the ascending list stays ascending.
+        if !key.frozen && !self.awake_stale {
+            self.awake.push(k);
+        }
+        self.keys.push(key);
+        self.list.push(contact);
+    }
+
+    /// Removes the contacts whose keys are marked `remove`, from the last down, each
+    /// replaced by the last contact (so the order is the same on any thread count).
+    pub fn remove_marked(&mut self) {
+        for k in (0..self.list.len()).rev() {
+            if self.keys[k].remove {
+                self.awake_stale = true;
+                self.keys.swap_remove(k);
+                let c = self.list.swap_remove(k);
+                self.pairs.remove(&pair_key(c.shape_a, c.shape_b));
+                if k < self.list.len() {
+                    let moved = &self.list[k];
+                    self.pairs
+                        .insert(pair_key(moved.shape_a, moved.shape_b), k as u32);
+                }
+            }
+        }
+    }
+
+    /// Keeps the first `keep` contacts (the caller has moved the ones it keeps there, in
+    /// order) and maps the pairs to their places again.
+    pub fn truncate(&mut self, keep: usize) {
+        if keep != self.list.len() {
+            self.awake_stale = true;
+            self.list.truncate(keep);
+            self.keys.truncate(keep);
+            self.pairs = self
+                .list
+                .iter()
+                .enumerate()
+                .map(|(k, c)| (pair_key(c.shape_a, c.shape_b), k as u32))
+                .collect();
+        }
+    }
+
+    /// Recomputes each contact's `frozen` and `sleeping` flags from the bodies' awake flags.
+    pub fn refresh_sleep(&mut self, awake: &[bool]) {
+        self.awake_stale = true;
+        for (c, key) in self.list.iter().zip(&mut self.keys) {
+            let fresh = ContactKey::of(c, awake);
+            key.frozen = fresh.frozen;
+            key.sleeping = fresh.sleeping;
+            key.retest |= fresh.frozen;
+        }
+    }
+
+    /// Copies body `body`'s masses into its contacts again (prepare reads no body).
+    pub fn refresh_masses(&mut self, body: u32, masses: &[SolverBody], awake: &[bool]) {
+        self.awake_stale = true;
+        for (c, key) in self.list.iter_mut().zip(&mut self.keys) {
+            if c.body_a == body || c.body_b == body {
+                c.masses = [masses[c.body_a as usize], masses[c.body_b as usize]];
+                *key = ContactKey {
+                    touching: key.touching,
+                    ..ContactKey::of(c, awake)
+                };
+            }
+        }
+    }
 }
 
 /// Joints, by slot, and what the step derives from them.
