@@ -84,13 +84,16 @@ impl Aabb {
     }
 }
 
-/// Mass, centre of mass and rotational inertia about it, for a given density.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// Mass, centre of mass and rotational inertia about it: a shape's for a given density, or
+/// a body's ([`crate::World::mass_data`], [`crate::World::set_mass_data`]; Box2D's
+/// `b2MassData`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct MassData {
     /// kg.
     pub mass: f32,
     /// The centre of mass in the shape's frame (the origin for every shape loading centres;
-    /// a rounded polygon's mass, as Box2D approximates it, can lie slightly off).
+    /// a rounded polygon's mass, as Box2D approximates it, can lie slightly off), or in the
+    /// body's frame for a body's.
     pub center: Vec2,
     /// kg·m² about the centre of mass.
     pub inertia: f32,

@@ -711,12 +711,15 @@ impl Solver {
     /// overflow is solved by the leading worker alone before the colours. The result does
     /// not depend on `workers` nor on who runs which block: each colour's constraints touch
     /// disjoint bodies, so their order within a colour is moot.
-    /// `moving` lists the bodies that move (each once; the body stages walk only them).
+    /// `moving` lists the bodies that move (each once; the body stages walk only them);
+    /// `forced`, when some body has a force or torque applied this step, each body's
+    /// acceleration from it (by slot; `None` costs the integration nothing).
     pub fn run_substeps(
         &mut self,
         states: &mut [BodyState],
         motion: &[BodyMotion],
         moving: &[u32],
+        forced: Option<&[ForceAcceleration]>,
         step: &SubstepParams,
         spread: Spread<'_>,
     ) -> (u64, usize) {
@@ -730,7 +733,11 @@ impl Solver {
         // The plan's buffer is kept from run to run: a steady scene's step allocates nothing.
         let mut plan = std::mem::take(&mut self.plan);
         self.plan_into(&mut plan, moving.len(), step, workers);
-        let bodies = Bodies { motion, moving };
+        let bodies = Bodies {
+            motion,
+            moving,
+            forced,
+        };
         let mut joints = std::mem::take(&mut self.solver_joints);
         let result = self.run_plan(&plan, &mut joints, states, &bodies, step, spread, workers);
         self.solver_joints = joints;
@@ -931,6 +938,16 @@ fn build_constraint(
     con
 }
 
+/// The acceleration a body's applied force and torque give it through one step (the
+/// force times its inverse mass, the torque times its inverse inertia).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ForceAcceleration {
+    /// m/s².
+    pub linear: Vec2,
+    /// rad/s².
+    pub angular: f32,
+}
+
 /// What the integration stages need of a body.
 #[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct BodyMotion {
@@ -1019,6 +1036,8 @@ struct Bodies<'a> {
     motion: &'a [BodyMotion],
     /// Slots of the bodies that move, each once: the body stages' items index it.
     moving: &'a [u32],
+    /// Each body's acceleration from applied forces, by slot, when any body has one.
+    forced: Option<&'a [ForceAcceleration]>,
 }
 
 /// The constraint arrays the workers share.
@@ -1143,7 +1162,16 @@ impl Passes<'_> {
                         } else {
                             p.gravity * m.gravity_scale
                         };
-                        integrate_velocity(&mut s, g, p.h, lin, ang);
+                        match bodies.forced {
+                            // Box2D `b2IntegrateVelocitiesTask`: the force's acceleration
+                            // joins gravity's, undamped; the torque's adds to the spin.
+                            Some(forced) if forced[i] != ForceAcceleration::default() => {
+                                let a = forced[i];
+                                integrate_velocity(&mut s, g + a.linear, p.h, lin, ang);
+                                s.w += p.h * a.angular;
+                            }
+                            _ => integrate_velocity(&mut s, g, p.h, lin, ang),
+                        }
                         states.set(i, s);
                     }
                 }

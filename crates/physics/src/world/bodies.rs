@@ -3,6 +3,7 @@
 
 use glam::Vec2;
 
+use super::stores::AppliedForce;
 use super::{BodyRecord, BodySim, Contact, NONE, ShapeRecord, World, WorldError, step};
 use crate::AABB_MARGIN;
 use crate::body::{BodyMass, BodyState, part_geometry};
@@ -71,6 +72,7 @@ impl World {
             enable_sleep: def.enable_sleep,
             bullet: def.bullet,
             user_data: 0,
+            custom_mass: false,
         };
         let rotates = !(def.kind == BodyKind::Dynamic && def.fixed_rotation);
         let state = BodyState {
@@ -85,7 +87,14 @@ impl World {
             self.bodies.masses.push(SolverBody::default());
             self.bodies.motion.push(BodyMotion::default());
             self.bodies.awake.push(false);
+            self.bodies.forces.push(AppliedForce::default());
         } else {
+            // (A slot still in the forced list stays listed, with no force.)
+            let listed = self.bodies.forces[i].listed;
+            self.bodies.forces[i] = AppliedForce {
+                listed,
+                ..AppliedForce::default()
+            };
             self.bodies.sims[i] = sim;
             self.bodies.records[i] = record;
             self.bodies.states[i] = state;
@@ -115,7 +124,7 @@ impl World {
                 .iter()
                 .any(|c| c.body_a == index || c.body_b == index)
         );
-        self.set_mass_data(index);
+        self.compute_mass_data(index);
         let asleep = !def.awake && self.settings.enable_sleep && def.kind == BodyKind::Dynamic;
         if def.kind == BodyKind::Dynamic {
             self.islands.create(index, !asleep);
@@ -152,6 +161,7 @@ impl World {
             sensor: part.sensor,
             next: NONE,
             part: self.bodies.records[body as usize].parts,
+            user_data: 0,
         };
         // Appended: a body's shapes are listed in part order.
         match self.shapes_of_body(body as usize).last() {
@@ -200,19 +210,34 @@ impl World {
     /// the centre, and the masses the body's contacts keep. The centre of mass keeps its
     /// place in the body's frame: the frame stays where it is and the centre moves.
     pub(super) fn update_mass(&mut self, body: u32) {
-        self.set_mass_data(body);
+        self.compute_mass_data(body);
         self.refresh_contact_masses(body);
     }
 
     /// [`World::update_mass`] without telling the contacts: for a body just made, which has
     /// none (a scan of every contact per body made would cost a world making many).
-    fn set_mass_data(&mut self, body: u32) {
+    fn compute_mass_data(&mut self, body: u32) {
+        let md = self.shapes_mass(body as usize);
+        self.bodies.records[body as usize].custom_mass = false;
+        self.apply_mass(body, md.mass, md.center, md.inertia, md.min_extent);
+    }
+
+    /// Gives body `body` a mass (kg), centre (in its frame) and inertia about that centre
+    /// (kg·m²), from its shapes or the caller, and refreshes every copy but the contacts'.
+    /// The centre of mass keeps its place in the body's frame: the frame stays where it is.
+    pub(super) fn apply_mass(
+        &mut self,
+        body: u32,
+        mass: f32,
+        center: Vec2,
+        inertia: f32,
+        min_extent: f32,
+    ) {
         let i = body as usize;
         let kind = self.bodies.sims[i].kind;
         let shape_ids: Vec<u32> = self.shapes_of_body(i).collect();
-        let md = self.shapes_mass(i);
         let dynamic = kind == BodyKind::Dynamic;
-        let center = if dynamic { md.center } else { Vec2::ZERO };
+        let center = if dynamic { center } else { Vec2::ZERO };
         // Keep the frame's origin where it is.
         let old_center = self.bodies.records[i].local_center;
         if old_center != center {
@@ -220,13 +245,13 @@ impl World {
             self.bodies.sims[i].xf.p += q.apply(center - old_center);
         }
         self.bodies.records[i].local_center = center;
-        let (inv_mass, inv_inertia) = if dynamic && md.mass > 0.0 {
-            let inv_i = if self.bodies.records[i].fixed_rotation || md.inertia <= 0.0 {
+        let (inv_mass, inv_inertia) = if dynamic && mass > 0.0 {
+            let inv_i = if self.bodies.records[i].fixed_rotation || inertia <= 0.0 {
                 0.0
             } else {
-                1.0 / md.inertia
+                1.0 / inertia
             };
-            (1.0 / md.mass, inv_i)
+            (1.0 / mass, inv_i)
         } else {
             (0.0, 0.0)
         };
@@ -238,7 +263,7 @@ impl World {
         let sim = &mut self.bodies.sims[i];
         sim.inv_inertia = inv_inertia;
         sim.extent = extent;
-        sim.min_extent = md.min_extent;
+        sim.min_extent = min_extent;
         sim.margin = match kind {
             BodyKind::Static => 0.0,
             // Box2D `b2ComputeShapeMargin`: small shapes get proportionally small margins.
@@ -262,7 +287,7 @@ impl World {
 
     /// Contacts keep a copy of their bodies' masses (prepare reads no body): refreshes body
     /// `body`'s. A body just made has no contacts yet and skips this scan of them all.
-    fn refresh_contact_masses(&mut self, body: u32) {
+    pub(super) fn refresh_contact_masses(&mut self, body: u32) {
         // (The colouring needs no telling: it is checked against the touching pairs.)
         self.contacts
             .refresh_masses(body, &self.bodies.masses, &self.bodies.awake);
@@ -426,7 +451,7 @@ impl World {
     }
 
     /// Whether an impulse moves body `i`: it is dynamic and awake, or woken now.
-    fn impulse_target(&mut self, i: usize, wake: bool) -> bool {
+    pub(super) fn impulse_target(&mut self, i: usize, wake: bool) -> bool {
         if !self.bodies.masses[i].dynamic {
             return false;
         }
@@ -740,7 +765,7 @@ impl World {
 }
 
 /// `Ok` if both coordinates are finite, else the error that names the value.
-fn finite(what: &str, v: Vec2) -> Result<(), WorldError> {
+pub(super) fn finite(what: &str, v: Vec2) -> Result<(), WorldError> {
     if v.is_finite() {
         Ok(())
     } else {

@@ -588,6 +588,56 @@ mod world_tests {
         );
     }
 
+    /// A foot sensor on chain ground: a kinematic body at rest whose one shape is a sensor
+    /// box of `width` x `height` centred `dy` above a chain along y = 0, stepped `steps`
+    /// times. Returns the sensor events and the sensor's overlaps at the end.
+    fn foot_on_chain(width: f32, height: f32, dy: f32, steps: usize) -> (Vec<Event>, usize) {
+        let mut w = World::new(StepSettings::default());
+        w.create_body(
+            &BodyDef::compound(vec![PartDef::new(ShapeDef::Chain {
+                points: vec![[-5.0, 0.0], [-1.0, 0.0], [1.0, 0.0], [5.0, 0.0]],
+                looped: false,
+            })])
+            .kind(BodyKind::Static),
+        )
+        .unwrap();
+        let foot = w
+            .create_body(
+                &BodyDef::compound(vec![
+                    PartDef::new(ShapeDef::Box {
+                        half_extents: [0.5 * width, 0.5 * height],
+                        radius: 0.0,
+                    })
+                    .sensor(true),
+                ])
+                .kind(BodyKind::Kinematic)
+                .at(0.3, dy),
+            )
+            .unwrap();
+        let events: Vec<Event> = (0..steps).flat_map(|_| step(&mut w)).collect();
+        let sensor = w.body_shapes(foot).unwrap().next().unwrap();
+        (events, w.sensors.get(&sensor.id.index).map_or(0, Vec::len))
+    }
+
+    #[test]
+    fn a_sensor_sees_chain_ground_under_a_box_of_any_size_from_either_side() {
+        // The sizes the issue found blind (only 0.5 x 0.5 worked); the box straddles the
+        // chain, its centre 1 cm above it or below it (a chain is one-sided; a sensor is not).
+        for (width, height) in [(0.3, 0.05), (0.3, 0.3), (0.5, 0.1), (1.0, 0.1), (0.5, 0.5)] {
+            for dy in [0.01, -0.01] {
+                let (events, overlaps) = foot_on_chain(width, height, dy, 30);
+                assert!(
+                    matches!(events[..], [Event::SensorBegin { .. }]),
+                    "{width} x {height} at {dy}: {events:?}"
+                );
+                assert_eq!(overlaps, 1, "{width} x {height} at {dy}");
+            }
+        }
+        // 1 mm clear of the chain, it sees nothing.
+        let (events, overlaps) = foot_on_chain(0.3, 0.05, 0.026, 30);
+        assert!(events.is_empty() && overlaps == 0, "{events:?}");
+    }
+
     /// A static sensor box spanning y in [2, 4], and a ball of radius 0.25 falling through it
     /// from y = 10 (nothing below).
     fn sensor_and_ball(ball_filter: Filter) -> (World, BodyId, BodyId) {

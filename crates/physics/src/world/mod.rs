@@ -13,12 +13,15 @@
 //! under a new generation.
 
 mod bodies;
+mod body_properties;
 mod continuous;
 mod events;
+mod forces;
 mod joints;
 mod query;
 mod read;
 mod settings;
+mod shape_properties;
 mod sleep;
 mod snapshot;
 mod step;
@@ -184,6 +187,9 @@ struct BodyRecord {
     /// The caller's tag for the body ([`World::set_user_data`]); the step never reads it.
     #[serde(default)]
     user_data: u64,
+    /// Its mass data were given by [`World::set_mass_data`], not computed from its shapes.
+    #[serde(default)]
+    custom_mass: bool,
 }
 
 /// A shape on a body.
@@ -205,9 +211,25 @@ struct ShapeRecord {
     next: u32,
     /// Its place among its body's parts.
     part: u32,
+    /// The caller's tag ([`World::set_shape_user_data`]); the step never reads it.
+    #[serde(default)]
+    user_data: u64,
 }
 
 impl ShapeRecord {
+    /// A contact's friction from its shapes': Box2D's default mixing rule (and the
+    /// contract's), the geometric mean.
+    #[inline]
+    fn mixed_friction(a: &ShapeRecord, b: &ShapeRecord) -> f32 {
+        (a.friction * b.friction).sqrt()
+    }
+
+    /// A contact's restitution from its shapes': the larger (Box2D's default rule).
+    #[inline]
+    fn mixed_restitution(a: &ShapeRecord, b: &ShapeRecord) -> f32 {
+        a.restitution.max(b.restitution)
+    }
+
     /// The shape's pose in the world when its body's centre of mass is at `body`.
     #[inline]
     fn pose(&self, body: Transform) -> Transform {

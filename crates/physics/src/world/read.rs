@@ -3,7 +3,7 @@
 
 use glam::Vec2;
 
-use super::{BodyView, ContactView, QueryFilter, ShapeRef, ShapeView, World, WorldError};
+use super::{BodyView, Contact, ContactView, QueryFilter, ShapeRef, ShapeView, World, WorldError};
 use crate::collision::broad_phase::BroadPhase;
 use crate::def::BodyKind;
 use crate::id::{BodyId, ShapeId};
@@ -251,26 +251,28 @@ impl World {
 
     /// Every contact, in the deterministic order the solver sees them.
     pub fn contacts(&self) -> impl Iterator<Item = ContactView<'_>> {
-        self.contacts.list.iter().map(|c| {
-            let centre = self.bodies.sims[c.body_a as usize].xf.p;
-            let m = &c.manifold;
-            let body = |b: u32| BodyId {
-                index: b,
-                generation: self.bodies.slots.generation(b as usize),
-            };
-            let shape = |s: u32| ShapeId {
-                index: s,
-                generation: self.shapes.slots.generation(s as usize),
-            };
-            ContactView {
-                body_a: body(c.body_a),
-                body_b: body(c.body_b),
-                shape_a: shape(c.shape_a),
-                shape_b: shape(c.shape_b),
-                manifold: m,
-                points: [centre + m.points[0].anchor_a, centre + m.points[1].anchor_a],
-            }
-        })
+        self.contacts.list.iter().map(|c| self.contact_view(c))
+    }
+
+    pub(super) fn contact_view<'w>(&'w self, c: &'w Contact) -> ContactView<'w> {
+        let centre = self.bodies.sims[c.body_a as usize].xf.p;
+        let m = &c.manifold;
+        let body = |b: u32| BodyId {
+            index: b,
+            generation: self.bodies.slots.generation(b as usize),
+        };
+        let shape = |s: u32| ShapeId {
+            index: s,
+            generation: self.shapes.slots.generation(s as usize),
+        };
+        ContactView {
+            body_a: body(c.body_a),
+            body_b: body(c.body_b),
+            shape_a: shape(c.shape_a),
+            shape_b: shape(c.shape_b),
+            manifold: m,
+            points: [centre + m.points[0].anchor_a, centre + m.points[1].anchor_a],
+        }
     }
 
     /// Islands, and of those the awake ones.

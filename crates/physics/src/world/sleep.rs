@@ -154,18 +154,41 @@ impl World {
             return;
         }
         for k in sleepy {
-            self.islands.set_awake(k, false);
-            let bodies = std::mem::take(&mut self.islands.islands[k as usize].bodies);
-            for &b in &bodies {
-                let i = b as usize;
-                self.bodies.awake[i] = false;
-                let st = &mut self.bodies.states[i];
-                st.v = Vec2::ZERO;
-                st.w = 0.0;
-                self.bodies.refresh_motion(b);
-            }
-            self.islands.islands[k as usize].bodies = bodies;
+            self.sleep_island(k);
         }
+        self.refresh_contact_keys();
+    }
+
+    /// Puts island `k` to sleep, its bodies stopped (without refreshing the contact keys:
+    /// the caller does, once).
+    fn sleep_island(&mut self, k: u32) {
+        self.islands.set_awake(k, false);
+        let bodies = std::mem::take(&mut self.islands.islands[k as usize].bodies);
+        for &b in &bodies {
+            let i = b as usize;
+            self.bodies.awake[i] = false;
+            let st = &mut self.bodies.states[i];
+            st.v = Vec2::ZERO;
+            st.w = 0.0;
+            self.bodies.refresh_motion(b);
+        }
+        self.islands.islands[k as usize].bodies = bodies;
+    }
+
+    /// Puts the island of dynamic body `body` to sleep now (Box2D's `b2Body_SetAwake` with
+    /// false): an island that lost a constraint since it was whole is split first, and only
+    /// the part holding `body` sleeps. A body touching a kinematic one, or an island
+    /// jointed to one, wakes again at the next step as it would from any sleep.
+    pub(super) fn sleep_island_of(&mut self, body: u32) {
+        let k = self.islands.of_body[body as usize];
+        if k == NO_ISLAND || !self.islands.islands[k as usize].awake {
+            return;
+        }
+        if self.islands.islands[k as usize].constraints_removed > 0 {
+            self.split_island(k);
+        }
+        let k = self.islands.of_body[body as usize];
+        self.sleep_island(k);
         self.refresh_contact_keys();
     }
 

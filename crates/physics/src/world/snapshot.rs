@@ -1,5 +1,6 @@
 //! Snapshots: everything that decides a world's future, as plain serde data.
 
+use super::stores::AppliedForce;
 use super::{
     BodyRecord, BodySim, Contact, ContactKey, NONE, ShapeRecord, StepSettings, World, pair_key,
 };
@@ -59,6 +60,9 @@ pub struct WorldSnapshot {
     /// pushed: hits still to judge.
     #[serde(default)]
     unpushed_hits: Vec<(u64, u64)>,
+    /// Forces and torques applied since the last step, by body slot, in the order given.
+    #[serde(default)]
+    forces: Vec<(u32, AppliedForce)>,
 }
 
 impl WorldSnapshot {
@@ -141,6 +145,12 @@ impl World {
             last_inv_h: self.joints.last_inv_h,
             sensors: self.sensors.clone(),
             unpushed_hits: self.events.unpushed.clone(),
+            forces: self
+                .bodies
+                .forced
+                .iter()
+                .map(|&i| (i, self.bodies.forces[i as usize]))
+                .collect(),
         }
     }
 
@@ -260,6 +270,13 @@ impl World {
         world.bodies.masses = snapshot.solver_bodies;
         world.bodies.motion = snapshot.motion;
         world.bodies.awake = snapshot.awake;
+        world.bodies.forces = vec![AppliedForce::default(); n];
+        for &(i, f) in &snapshot.forces {
+            let live = (i as usize) < n && world.bodies.slots.is_alive(i as usize);
+            if live && f.force.is_finite() && f.torque.is_finite() {
+                world.bodies.add_force(i, f.force, f.torque);
+            }
+        }
         world.bodies.kinematic_count = (0..n)
             .filter(|&i| {
                 world.bodies.slots.is_alive(i) && world.bodies.sims[i].kind == BodyKind::Kinematic

@@ -82,6 +82,7 @@ impl World {
             && self.shapes.moved_proxies.is_empty()
         {
             self.events.body_moves.clear();
+            self.bodies.clear_forces();
             // A shape destroyed in a sensor still ends its overlap.
             self.overlap_sensors();
             self.stats.steps += 1;
@@ -355,9 +356,8 @@ impl World {
             shape_b: b,
             body_a: ra.body,
             body_b: rb.body,
-            // Mixing rules: Box2D's defaults (and the contract's).
-            friction: (ra.friction * rb.friction).sqrt(),
-            restitution: ra.restitution.max(rb.restitution),
+            friction: ShapeRecord::mixed_friction(ra, rb),
+            restitution: ShapeRecord::mixed_restitution(ra, rb),
             manifold: Manifold::default(),
             cache: None,
             touched: false,
@@ -624,13 +624,16 @@ impl World {
         let constraints =
             self.contacts.touching.len() + self.joints.awake.len() + self.joints.chain_list.len();
         let solve_spread = spread.for_stage(constraints, self.wide.solve);
+        let forced = self.bodies.refresh_force_accelerations();
         let (caps, workers) = self.solver.run_substeps(
             &mut self.bodies.states,
             &self.bodies.motion,
             &self.bodies.awake_set,
+            forced.then_some(&self.bodies.force_accels[..]),
             &step,
             solve_spread,
         );
+        self.bodies.clear_forces();
         self.stats.speed_caps += caps;
         profile.solver_workers = workers;
         profile.solve_ms = ms(t);

@@ -10,6 +10,7 @@
 use std::ops::Range;
 use std::sync::Arc;
 
+use glam::Vec2;
 use rustc_hash::FxHashMap;
 
 use super::joints::JointMeta;
@@ -23,7 +24,7 @@ use crate::joint::chain::Link;
 use crate::math::Transform;
 use crate::profile::StepProfile;
 use crate::shape::{Aabb, Shape};
-use crate::solver::{BodyMotion, SolverBody, Touching};
+use crate::solver::{BodyMotion, ForceAcceleration, SolverBody, Touching};
 use crate::threads::crew::Crew;
 
 /// Bodies, by slot (a body's id's `index`).
@@ -50,6 +51,24 @@ pub(super) struct Bodies {
     pub awake_set_stale: bool,
     /// Kinematic bodies in the world (their motion keeps what they touch awake).
     pub kinematic_count: usize,
+    /// Forces and torques applied since the last step, by slot (zero where none): they act
+    /// through the next step and are then cleared (Box2D's rule).
+    pub forces: Vec<AppliedForce>,
+    /// The bodies with a force in `forces`, each once, in the order first given one.
+    pub forced: Vec<u32>,
+    /// Scratch: each body's acceleration from its force, filled for `forced` at a step.
+    pub force_accels: Vec<ForceAcceleration>,
+}
+
+/// A force and torque applied to a body for the next step.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub(super) struct AppliedForce {
+    /// N, through the centre of mass.
+    pub force: Vec2,
+    /// N·m.
+    pub torque: f32,
+    /// The body is in `Bodies::forced`.
+    pub listed: bool,
 }
 
 impl Bodies {
@@ -75,6 +94,45 @@ impl Bodies {
             angular_damping: r.angular_damping,
             gravity_scale: r.gravity_scale,
         };
+    }
+
+    /// Adds a force and torque to body `i`'s for the next step.
+    pub fn add_force(&mut self, i: u32, force: Vec2, torque: f32) {
+        let f = &mut self.forces[i as usize];
+        if !f.listed {
+            f.listed = true;
+            self.forced.push(i);
+        }
+        f.force += force;
+        f.torque += torque;
+    }
+
+    /// Fills `force_accels` for each forced body, for the step's integration; false when
+    /// no body has a force (the integration is then told of none, at no cost).
+    pub fn refresh_force_accelerations(&mut self) -> bool {
+        if self.forced.is_empty() {
+            return false;
+        }
+        self.force_accels
+            .resize(self.forces.len(), ForceAcceleration::default());
+        for &i in &self.forced {
+            let (f, m) = (self.forces[i as usize], self.masses[i as usize]);
+            self.force_accels[i as usize] = ForceAcceleration {
+                linear: f.force * m.inv_mass,
+                angular: f.torque * m.inv_inertia,
+            };
+        }
+        true
+    }
+
+    /// Clears every applied force (after the step they acted through).
+    pub fn clear_forces(&mut self) {
+        for i in self.forced.drain(..) {
+            self.forces[i as usize] = AppliedForce::default();
+            if let Some(a) = self.force_accels.get_mut(i as usize) {
+                *a = ForceAcceleration::default();
+            }
+        }
     }
 
     /// Keeps the count of kinematic bodies as a body goes from kind `old` to `new` (a new

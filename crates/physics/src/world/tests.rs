@@ -826,12 +826,48 @@ fn a_stale_id_is_refused_by_every_call_and_never_names_the_slots_next_holder() {
         w.create_mouse_joint(ball, p, 5.0, 0.7, 100.0).map(|_| ()),
         no_body
     );
+    assert_eq!(w.apply_force(ball, v, p, true), no_body);
+    assert_eq!(w.apply_force_to_center(ball, v, true), no_body);
+    assert_eq!(w.apply_torque(ball, 1.0, true), no_body);
+    assert_eq!(w.applied_force(ball).map(|_| ()), no_body);
+    assert_eq!(w.set_linear_damping(ball, 0.5), no_body);
+    assert_eq!(w.linear_damping(ball).map(|_| ()), no_body);
+    assert_eq!(w.set_angular_damping(ball, 0.5), no_body);
+    assert_eq!(w.angular_damping(ball).map(|_| ()), no_body);
+    assert_eq!(w.set_gravity_scale(ball, 0.5), no_body);
+    assert_eq!(w.gravity_scale(ball).map(|_| ()), no_body);
+    assert_eq!(w.set_fixed_rotation(ball, true), no_body);
+    assert_eq!(w.fixed_rotation(ball).map(|_| ()), no_body);
+    assert_eq!(w.set_sleep_enabled(ball, false), no_body);
+    assert_eq!(w.sleep_enabled(ball).map(|_| ()), no_body);
+    assert_eq!(w.set_awake(ball, false), no_body);
+    let md = crate::shape::MassData {
+        mass: 1.0,
+        center: Vec2::ZERO,
+        inertia: 1.0,
+    };
+    assert_eq!(w.set_mass_data(ball, md), no_body);
+    assert_eq!(w.mass_data(ball).map(|_| ()), no_body);
+    assert_eq!(w.body_contacts(ball).map(|_| ()), no_body);
+    assert_eq!(w.body_joints(ball).map(|_| ()), no_body);
     assert_eq!(w.destroy_body(ball), no_body);
     assert_eq!(w.destroy_bodies(&[next, ball]), no_body);
 
     let no_shape = Err(WorldError::NoShape(shape));
     assert_eq!(w.shape(shape).map(|_| ()), no_shape);
     assert!(!w.contains_shape(shape) && w.contains_shape(next_shape));
+    assert_eq!(w.set_friction(shape, 0.5), no_shape);
+    assert_eq!(w.friction(shape).map(|_| ()), no_shape);
+    assert_eq!(w.set_restitution(shape, 0.5), no_shape);
+    assert_eq!(w.restitution(shape).map(|_| ()), no_shape);
+    assert_eq!(w.set_density(shape, 2.0), no_shape);
+    assert_eq!(w.density(shape).map(|_| ()), no_shape);
+    assert_eq!(w.set_filter(shape, crate::def::Filter::default()), no_shape);
+    assert_eq!(w.filter(shape).map(|_| ()), no_shape);
+    assert_eq!(w.set_shape_user_data(shape, 7), no_shape);
+    assert_eq!(w.shape_user_data(shape).map(|_| ()), no_shape);
+    assert_eq!(w.shape_contacts(shape).map(|_| ()), no_shape);
+    assert_eq!(w.sensor_overlaps(shape).map(|_| ()), no_shape);
     assert_eq!(w.destroy_shape(shape), no_shape);
 
     let no_joint = Err(WorldError::NoJoint(joint));

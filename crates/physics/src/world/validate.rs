@@ -29,6 +29,12 @@ impl World {
             return Err("the tracked sensors are not the live sensor shapes".into());
         }
         let n = self.bodies.sims.len();
+        if self.bodies.forces.len() != n {
+            return Err(format!(
+                "{} applied forces for {n} body slots",
+                self.bodies.forces.len()
+            ));
+        }
         let mut owner = vec![NONE; self.shapes.geometry.len()];
         for i in 0..n {
             let alive = self.bodies.slots.is_alive(i);
@@ -69,24 +75,31 @@ impl World {
             if count == 0 {
                 return Err(format!("body {i} has no shape"));
             }
-            // Mass data: exactly what a fresh computation gives.
-            let md = self.shapes_mass(i);
+            // Mass data: exactly what a fresh computation gives, unless the caller gave them
+            // (then only a dynamic body has mass).
             let sb = self.bodies.masses[i];
             let dynamic = kind == BodyKind::Dynamic;
-            let inv_mass = if dynamic && md.mass > 0.0 {
-                1.0 / md.mass
+            if self.bodies.records[i].custom_mass {
+                if !dynamic || sb.inv_mass <= 0.0 || !sb.dynamic {
+                    return Err(format!("body {i} has given mass data but is not dynamic"));
+                }
             } else {
-                0.0
-            };
-            if sb.inv_mass != inv_mass || sb.dynamic != dynamic {
-                return Err(format!(
-                    "body {i}'s mass is stale ({} vs {inv_mass})",
-                    sb.inv_mass
-                ));
-            }
-            let center = if dynamic { md.center } else { glam::Vec2::ZERO };
-            if self.bodies.records[i].local_center != center {
-                return Err(format!("body {i}'s centre of mass is stale"));
+                let md = self.shapes_mass(i);
+                let inv_mass = if dynamic && md.mass > 0.0 {
+                    1.0 / md.mass
+                } else {
+                    0.0
+                };
+                if sb.inv_mass != inv_mass || sb.dynamic != dynamic {
+                    return Err(format!(
+                        "body {i}'s mass is stale ({} vs {inv_mass})",
+                        sb.inv_mass
+                    ));
+                }
+                let center = if dynamic { md.center } else { glam::Vec2::ZERO };
+                if self.bodies.records[i].local_center != center {
+                    return Err(format!("body {i}'s centre of mass is stale"));
+                }
             }
             // Awake and motion flags.
             let island = self.islands.of_body.get(i).copied().unwrap_or(NO_ISLAND);
