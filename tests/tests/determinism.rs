@@ -506,6 +506,8 @@ fn every_joint() -> SceneDef {
     let slider = scene.push(BodyDef::new(rect(0.3, 0.3)).at(-5.0, 5.0));
     let (c, s) = (30f32.to_radians().cos(), 30f32.to_radians().sin());
     scene.joints.push(JointDef::Prismatic {
+        force_threshold: f32::INFINITY,
+        torque_threshold: f32::INFINITY,
         bodies: [ground, slider].map(BodyId::scene),
         anchor: [-5.0, 5.0],
         axis: [c, s],
@@ -522,6 +524,8 @@ fn every_joint() -> SceneDef {
     for x in [-0.7f32, 0.7] {
         let wheel = scene.push(BodyDef::new(ball(0.4)).at(x, 0.6).friction(0.9));
         scene.joints.push(JointDef::Wheel {
+            force_threshold: f32::INFINITY,
+            torque_threshold: f32::INFINITY,
             bodies: [chassis, wheel].map(BodyId::scene),
             anchor: [x, 0.6],
             axis: [0.0, 1.0],
@@ -540,6 +544,8 @@ fn every_joint() -> SceneDef {
     // A rope and a spring from the ground, a soft weld, a motor joint and a filter joint.
     let on_rope = scene.push(BodyDef::new(ball(0.3)).at(8.0, 6.0));
     scene.joints.push(JointDef::Distance {
+        force_threshold: f32::INFINITY,
+        torque_threshold: f32::INFINITY,
         bodies: [ground, on_rope].map(BodyId::scene),
         anchors: [[6.0, 8.0], [8.0, 6.0]],
         length: Some(3.0),
@@ -552,6 +558,8 @@ fn every_joint() -> SceneDef {
     });
     let on_spring = scene.push(BodyDef::new(ball(0.3)).at(10.0, 6.0));
     scene.joints.push(JointDef::Distance {
+        force_threshold: f32::INFINITY,
+        torque_threshold: f32::INFINITY,
         bodies: [ground, on_spring].map(BodyId::scene),
         anchors: [[10.0, 8.0], [10.0, 6.0]],
         length: None,
@@ -564,6 +572,8 @@ fn every_joint() -> SceneDef {
     });
     let welded = scene.push(BodyDef::new(rect(0.5, 0.5)).at(12.5, 4.0));
     scene.joints.push(JointDef::Weld {
+        force_threshold: f32::INFINITY,
+        torque_threshold: f32::INFINITY,
         bodies: [on_spring, welded].map(BodyId::scene),
         anchor: [11.0, 5.0],
         linear_hertz: 5.0,
@@ -574,6 +584,8 @@ fn every_joint() -> SceneDef {
     });
     let driven = scene.push(BodyDef::new(rect(0.4, 0.4)).at(15.0, 3.0));
     scene.joints.push(JointDef::Motor {
+        force_threshold: f32::INFINITY,
+        torque_threshold: f32::INFINITY,
         bodies: [ground, driven].map(BodyId::scene),
         linear_offset: Some([16.0, 4.5]),
         angular_offset: Some(1.0),
@@ -593,6 +605,8 @@ fn every_joint() -> SceneDef {
         let p = [25.0 + 2.5 * a.cos(), 8.0 + 2.5 * a.sin()];
         let b = scene.push(BodyDef::new(ball(0.2)).at(p[0], p[1]));
         scene.joints.push(JointDef::Distance {
+            force_threshold: f32::INFINITY,
+            torque_threshold: f32::INFINITY,
             bodies: [hub, b].map(BodyId::scene),
             anchors: [[25.0, 8.0], p],
             length: None,

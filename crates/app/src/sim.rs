@@ -429,8 +429,8 @@ pub struct Sim {
 pub struct EventLog {
     /// Oldest first.
     pub entries: VecDeque<(u64, Event)>,
-    /// Contact begins, contact ends, hits, sensor begins, sensor ends.
-    pub counts: [u64; 5],
+    /// Contact begins, contact ends, hits, sensor begins, sensor ends, joint thresholds.
+    pub counts: [u64; 6],
     /// What of the world's events is logged.
     cursor: EventCursor,
 }
@@ -447,6 +447,7 @@ impl EventLog {
             Event::Hit { .. } => 2,
             Event::SensorBegin { .. } => 3,
             Event::SensorEnd { .. } => 4,
+            Event::JointThreshold { .. } => 5,
         }
     }
 
@@ -1208,6 +1209,6 @@ mod tests {
             .collect();
         assert_eq!(tail, last);
         sim.restart();
-        assert!(sim.events.entries.is_empty() && sim.events.counts == [0; 5]);
+        assert!(sim.events.entries.is_empty() && sim.events.counts == [0; 6]);
     }
 }

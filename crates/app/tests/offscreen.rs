@@ -459,6 +459,8 @@ fn joints_are_drawn_between_their_anchors() {
     let a = scene.push(BodyDef::new(ShapeDef::Circle { radius: 0.3 }).at(-3.0, 0.0));
     let b = scene.push(BodyDef::new(ShapeDef::Circle { radius: 0.3 }).at(3.0, 0.0));
     scene.joints.push(JointDef::Distance {
+        force_threshold: f32::INFINITY,
+        torque_threshold: f32::INFINITY,
         bodies: [a, b].map(BodyId::scene),
         anchors: [[-3.0, 0.0], [3.0, 0.0]],
         length: None,

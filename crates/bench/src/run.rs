@@ -304,25 +304,34 @@ struct EventFile {
     cursor: EventCursor,
 }
 
-/// One line of the event file; field order is the contract's.
+/// One line of the event file; field order is the contract's: a shape event names
+/// `bodies` and `shapes`, a joint's `joint`, `force` and `torque`.
 #[derive(Serialize)]
 struct EventLine {
     step: u64,
     #[serde(rename = "type")]
     kind: &'static str,
-    bodies: [u32; 2],
-    shapes: [u32; 2],
+    #[serde(skip_serializing_if = "Option::is_none")]
+    bodies: Option<[u32; 2]>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    shapes: Option<[u32; 2]>,
     #[serde(skip_serializing_if = "Option::is_none")]
     point: Option<[f32; 2]>,
     #[serde(skip_serializing_if = "Option::is_none")]
     normal: Option<[f32; 2]>,
     #[serde(skip_serializing_if = "Option::is_none")]
     approach_speed: Option<f32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    joint: Option<u32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    force: Option<f32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    torque: Option<f32>,
 }
 
 impl EventLine {
     fn of(step: u64, event: &Event) -> EventLine {
-        let [a, b] = event.shapes();
+        let shapes = event.shapes();
         let (point, normal, approach_speed) = match *event {
             Event::Hit {
                 point,
@@ -336,14 +345,27 @@ impl EventLine {
             ),
             _ => (None, None, None),
         };
+        // A scene's joint is its index in `joints`: the id's index for the joints a scene
+        // makes (in order, none destroyed before them).
+        let (joint, force, torque) = match *event {
+            Event::JointThreshold {
+                joint,
+                force,
+                torque,
+            } => (Some(joint.index), Some(force), Some(torque)),
+            _ => (None, None, None),
+        };
         EventLine {
             step,
             kind: event.name(),
-            bodies: [a.body.index, b.body.index],
-            shapes: [a.part, b.part],
+            bodies: shapes.map(|[a, b]| [a.body.index, b.body.index]),
+            shapes: shapes.map(|[a, b]| [a.part, b.part]),
             point,
             normal,
             approach_speed,
+            joint,
+            force,
+            torque,
         }
     }
 }

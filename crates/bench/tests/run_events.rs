@@ -95,3 +95,48 @@ fn the_runner_writes_each_event_as_a_json_line_the_same_on_any_thread_count() {
         assert_eq!(one[i]["shapes"], serde_json::json!([1, 0]));
     }
 }
+
+/// Body 0: a static pin; body 1: a 1 kg box hanging 2 m below it on a hinge (joint 0) that
+/// reports past 9 N; body 2: a box swinging on a hinge (joint 1) that never reports.
+const BRIDGE: &str = r#"{
+  "name": "thresholds",
+  "steps": 20,
+  "bodies": [
+    {"kind": "Static", "position": [0, 5], "shape": {"Circle": {"radius": 0.1}}},
+    {"position": [0, 3], "shape": {"Box": {"half_extents": [0.5, 0.5]}}},
+    {"position": [6, 5], "shape": {"Box": {"half_extents": [0.5, 0.5]}}}
+  ],
+  "joints": [
+    {"Revolute": {"bodies": [0, 1], "anchor": [0, 5], "force_threshold": 9}},
+    {"Revolute": {"bodies": [0, 2], "anchor": [4, 5], "torque_threshold": 1000}}
+  ]
+}"#;
+
+#[test]
+fn a_joint_past_its_threshold_is_a_joint_threshold_line_on_any_thread_count() {
+    let dir =
+        Temp(std::env::temp_dir().join(format!("tumble-joint-events-{}", std::process::id())));
+    std::fs::create_dir_all(&dir.0).unwrap();
+    std::fs::write(dir.0.join("events.json"), BRIDGE).unwrap();
+    let one = run(&dir.0, 1);
+    assert_eq!(
+        one,
+        run(&dir.0, 2),
+        "the event file depends on the thread count"
+    );
+    // The hanging box pulls with its weight, 10 N (default gravity), from the first step:
+    // one line a step, joint 0, no bodies or shapes.
+    assert_eq!(one.len(), 20, "{one:#?}");
+    for (k, e) in one.iter().enumerate() {
+        assert_eq!(e["step"].as_u64(), Some(k as u64 + 1));
+        assert_eq!(e["type"], "joint_threshold");
+        assert_eq!(e["joint"], 0);
+        assert!(
+            e.get("bodies").is_none() && e.get("shapes").is_none(),
+            "{e}"
+        );
+        let force = e["force"].as_f64().unwrap();
+        assert!(force > 9.0 && force < 11.0, "{e}");
+        assert!(e["torque"].as_f64().unwrap().abs() < 1e-3, "{e}");
+    }
+}

@@ -50,7 +50,9 @@ fn main() {
     for step in 1..=180 {
         world.step(1.0 / 60.0, 4);
         for event in world.events() {
-            let [a, b] = event.shapes();
+            let Some([a, b]) = event.shapes() else {
+                continue;
+            };
             match event {
                 Event::Hit {
                     approach_speed,

@@ -30,6 +30,8 @@ fn main() {
         // Hinged at the point the two share, in world coordinates.
         world
             .create_joint(&JointDef::Revolute {
+                force_threshold: f32::INFINITY,
+                torque_threshold: f32::INFINITY,
                 bodies: [previous, link],
                 anchor: [i as f32, 10.0],
                 limit: None,

@@ -1131,6 +1131,8 @@ fn tumbler() -> SceneDef {
         .at(cx, cy),
     );
     scene.joints.push(JointDef::Revolute {
+        force_threshold: f32::INFINITY,
+        torque_threshold: f32::INFINITY,
         bodies: [0, drum].map(BodyId::scene),
         anchor: [cx, cy],
         limit: None,
@@ -1363,6 +1365,8 @@ fn stretched_chain() -> SceneDef {
     for _ in 0..COUNT {
         let disc = scene.push(BodyDef::new(circle(0.2)).at(0.0, y).filter(apart));
         scene.joints.push(JointDef::Revolute {
+            force_threshold: f32::INFINITY,
+            torque_threshold: f32::INFINITY,
             bodies: [prev, disc].map(BodyId::scene),
             anchor: above,
             limit: None,
@@ -1576,6 +1580,8 @@ fn human(
         );
         if let Some(parent) = bone.parent {
             scene.joints.push(JointDef::Revolute {
+                force_threshold: f32::INFINITY,
+                torque_threshold: f32::INFINITY,
                 bodies: [first + parent, index].map(BodyId::scene),
                 anchor: [at[0], at[1] + bone.pivot],
                 limit: Some([bone.limit[0] * PI, bone.limit[1] * PI]),
@@ -1640,6 +1646,8 @@ fn spinner() -> SceneDef {
     paddle.enable_sleep = false;
     let paddle = scene.push(paddle);
     scene.joints.push(JointDef::Revolute {
+        force_threshold: f32::INFINITY,
+        torque_threshold: f32::INFINITY,
         bodies: [0, paddle].map(BodyId::scene),
         anchor: [0.0, 12.0],
         limit: None,

@@ -41,7 +41,7 @@ pub struct Simulation {
     pub(crate) casting: bool,
     /// Which kinds of event the event log lists (as [`crate::sim::EventLog::kind`] numbers
     /// them).
-    pub(crate) event_filter: [bool; 5],
+    pub(crate) event_filter: [bool; 6],
 }
 
 /// What a left drag does in the simulation.
@@ -72,7 +72,7 @@ impl Simulation {
             saved: None,
             tool: Tool::Grab,
             casting: false,
-            event_filter: [true; 5],
+            event_filter: [true; 6],
         }
     }
 

@@ -66,6 +66,12 @@ impl Spring {
 fn is_false(b: &bool) -> bool {
     !*b
 }
+fn infinite() -> f32 {
+    f32::INFINITY
+}
+fn is_infinite(x: &f32) -> bool {
+    *x == f32::INFINITY
+}
 fn one() -> f32 {
     1.0
 }
@@ -110,6 +116,13 @@ pub enum JointDef {
         /// Whether the two bodies touch.
         #[serde(default, skip_serializing_if = "is_false")]
         collide_connected: bool,
+        /// Reaction force (N, >= 0) past which a step reports a `joint_threshold` event
+        /// (default: none; the joint is not destroyed: the game decides).
+        #[serde(default = "infinite", skip_serializing_if = "is_infinite")]
+        force_threshold: f32,
+        /// Reaction torque (N·m, >= 0) past which a step reports one (default: none).
+        #[serde(default = "infinite", skip_serializing_if = "is_infinite")]
+        torque_threshold: f32,
         /// B's hinge point at the start where it is not `anchor` (m, world): a joint that
         /// starts stretched and pulls the two points together (Solver2D's stretched chain).
         #[serde(
@@ -153,6 +166,13 @@ pub enum JointDef {
         /// Whether the two bodies touch.
         #[serde(default, skip_serializing_if = "is_false")]
         collide_connected: bool,
+        /// Reaction force (N, >= 0) past which a step reports a `joint_threshold` event
+        /// (default: none; the joint is not destroyed: the game decides).
+        #[serde(default = "infinite", skip_serializing_if = "is_infinite")]
+        force_threshold: f32,
+        /// Reaction torque (N·m, >= 0) past which a step reports one (default: none).
+        #[serde(default = "infinite", skip_serializing_if = "is_infinite")]
+        torque_threshold: f32,
     },
     /// B slides along `axis` on a spring and turns freely (a wheel on its suspension).
     Wheel {
@@ -188,6 +208,13 @@ pub enum JointDef {
         /// Whether the two bodies touch.
         #[serde(default, skip_serializing_if = "is_false")]
         collide_connected: bool,
+        /// Reaction force (N, >= 0) past which a step reports a `joint_threshold` event
+        /// (default: none; the joint is not destroyed: the game decides).
+        #[serde(default = "infinite", skip_serializing_if = "is_infinite")]
+        force_threshold: f32,
+        /// Reaction torque (N·m, >= 0) past which a step reports one (default: none).
+        #[serde(default = "infinite", skip_serializing_if = "is_infinite")]
+        torque_threshold: f32,
     },
     /// Keeps two anchors `length` apart.
     Distance {
@@ -221,6 +248,13 @@ pub enum JointDef {
         /// Whether the two bodies touch.
         #[serde(default, skip_serializing_if = "is_false")]
         collide_connected: bool,
+        /// Reaction force (N, >= 0) past which a step reports a `joint_threshold` event
+        /// (default: none; the joint is not destroyed: the game decides).
+        #[serde(default = "infinite", skip_serializing_if = "is_infinite")]
+        force_threshold: f32,
+        /// Reaction torque (N·m, >= 0) past which a step reports one (default: none).
+        #[serde(default = "infinite", skip_serializing_if = "is_infinite")]
+        torque_threshold: f32,
     },
     /// Glues B to A at `anchor`.
     Weld {
@@ -245,6 +279,13 @@ pub enum JointDef {
         /// Whether the two bodies touch.
         #[serde(default, skip_serializing_if = "is_false")]
         collide_connected: bool,
+        /// Reaction force (N, >= 0) past which a step reports a `joint_threshold` event
+        /// (default: none; the joint is not destroyed: the game decides).
+        #[serde(default = "infinite", skip_serializing_if = "is_infinite")]
+        force_threshold: f32,
+        /// Reaction torque (N·m, >= 0) past which a step reports one (default: none).
+        #[serde(default = "infinite", skip_serializing_if = "is_infinite")]
+        torque_threshold: f32,
     },
     /// Drives B towards an offset pose in A's frame.
     Motor {
@@ -278,6 +319,13 @@ pub enum JointDef {
         /// Whether the two bodies touch.
         #[serde(default, skip_serializing_if = "is_false")]
         collide_connected: bool,
+        /// Reaction force (N, >= 0) past which a step reports a `joint_threshold` event
+        /// (default: none; the joint is not destroyed: the game decides).
+        #[serde(default = "infinite", skip_serializing_if = "is_infinite")]
+        force_threshold: f32,
+        /// Reaction torque (N·m, >= 0) past which a step reports one (default: none).
+        #[serde(default = "infinite", skip_serializing_if = "is_infinite")]
+        torque_threshold: f32,
     },
     /// A and B never touch; nothing else.
     Filter {
@@ -303,6 +351,8 @@ impl JointDef {
     /// bodies kept apart.
     pub fn hinge(bodies: [BodyId; 2], anchor: [f32; 2]) -> JointDef {
         JointDef::Revolute {
+            force_threshold: f32::INFINITY,
+            torque_threshold: f32::INFINITY,
             bodies,
             anchor,
             limit: None,
@@ -311,6 +361,86 @@ impl JointDef {
             collide_connected: false,
             anchor_b: None,
         }
+    }
+
+    /// The reaction force (N) and torque (N·m) past which the joint reports
+    /// [`crate::Event::JointThreshold`] (infinite: never; a filter joint never does).
+    pub fn thresholds(&self) -> (f32, f32) {
+        match self {
+            JointDef::Revolute {
+                force_threshold,
+                torque_threshold,
+                ..
+            }
+            | JointDef::Prismatic {
+                force_threshold,
+                torque_threshold,
+                ..
+            }
+            | JointDef::Wheel {
+                force_threshold,
+                torque_threshold,
+                ..
+            }
+            | JointDef::Distance {
+                force_threshold,
+                torque_threshold,
+                ..
+            }
+            | JointDef::Weld {
+                force_threshold,
+                torque_threshold,
+                ..
+            }
+            | JointDef::Motor {
+                force_threshold,
+                torque_threshold,
+                ..
+            } => (*force_threshold, *torque_threshold),
+            JointDef::Filter { .. } => (f32::INFINITY, f32::INFINITY),
+        }
+    }
+
+    /// The same joint reporting past `force` (N) and `torque` (N·m) (see
+    /// [`JointDef::thresholds`]; a filter joint has none to set).
+    pub fn with_thresholds(mut self, force: f32, torque: f32) -> JointDef {
+        match &mut self {
+            JointDef::Revolute {
+                force_threshold,
+                torque_threshold,
+                ..
+            }
+            | JointDef::Prismatic {
+                force_threshold,
+                torque_threshold,
+                ..
+            }
+            | JointDef::Wheel {
+                force_threshold,
+                torque_threshold,
+                ..
+            }
+            | JointDef::Distance {
+                force_threshold,
+                torque_threshold,
+                ..
+            }
+            | JointDef::Weld {
+                force_threshold,
+                torque_threshold,
+                ..
+            }
+            | JointDef::Motor {
+                force_threshold,
+                torque_threshold,
+                ..
+            } => {
+                *force_threshold = force;
+                *torque_threshold = torque;
+            }
+            JointDef::Filter { .. } => {}
+        }
+        self
     }
 
     /// Body A and body B.
@@ -385,6 +515,16 @@ impl JointDef {
                 indices([a, b]),
                 "two different bodies (a joint between a body and itself does nothing)",
             ));
+        }
+        let (force, torque) = self.thresholds();
+        for (field, v) in [("force_threshold", force), ("torque_threshold", torque)] {
+            if v.is_nan() || v < 0.0 {
+                return Err(err(
+                    field,
+                    v.to_string(),
+                    "a number >= 0 (N or N·m; leave it out for none)",
+                ));
+            }
         }
         if !fa.dynamic && !fb.dynamic {
             return Err(err(
@@ -747,6 +887,7 @@ impl JointDef {
                 JointKind::Filter,
             ),
         };
+        let (force_threshold, torque_threshold) = self.thresholds();
         Joint {
             body_a: ia.index,
             body_b: ib.index,
@@ -756,6 +897,9 @@ impl JointDef {
             hertz,
             damping_ratio,
             kind,
+            force_threshold,
+            torque_threshold,
+            user_data: 0,
             step: JointStep::default(),
         }
     }

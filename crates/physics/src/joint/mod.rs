@@ -68,6 +68,15 @@ impl JointKind {
     }
 }
 
+fn infinite() -> f32 {
+    f32::INFINITY
+}
+
+/// JSON has no infinity: a threshold of none is left out.
+fn is_infinite(x: &f32) -> bool {
+    *x == f32::INFINITY
+}
+
 /// One joint as the world keeps it.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Joint {
@@ -88,6 +97,15 @@ pub struct Joint {
     pub damping_ratio: f32,
     /// The type, its settings and impulses.
     pub kind: JointKind,
+    /// Reaction force (N) past which a step reports [`crate::Event::JointThreshold`].
+    #[serde(default = "infinite", skip_serializing_if = "is_infinite")]
+    pub force_threshold: f32,
+    /// Reaction torque (N·m) past which a step reports one.
+    #[serde(default = "infinite", skip_serializing_if = "is_infinite")]
+    pub torque_threshold: f32,
+    /// The caller's tag ([`crate::World::set_joint_user_data`]); the step never reads it.
+    #[serde(default)]
+    pub user_data: u64,
     /// What this step's prepare computed (kept in snapshots: the reaction forces read it).
     #[serde(default)]
     pub(crate) step: JointStep,

@@ -119,6 +119,8 @@ fn a_revolute_limit_holds_the_angle_and_a_motor_reaches_its_speed() {
     })
     .at(1.0, 0.0);
     let limited = JointDef::Revolute {
+        force_threshold: f32::INFINITY,
+        torque_threshold: f32::INFINITY,
         bodies: [0, 1].map(BodyId::scene),
         anchor: [0.0, 0.0],
         limit: Some([-0.5, 0.5]),
@@ -141,6 +143,8 @@ fn a_revolute_limit_holds_the_angle_and_a_motor_reaches_its_speed() {
     scene.sleep = false;
     scene.bodies = vec![ground(), rod];
     scene.joints = vec![JointDef::Revolute {
+        force_threshold: f32::INFINITY,
+        torque_threshold: f32::INFINITY,
         bodies: [0, 1].map(BodyId::scene),
         anchor: [0.0, 0.0],
         limit: None,
@@ -174,6 +178,8 @@ fn a_revolute_spring_oscillates_at_its_hertz() {
     scene.sleep = false;
     scene.bodies = vec![ground(), ball(0.0, 0.0, 0.5).angle(0.2)];
     scene.joints = vec![JointDef::Revolute {
+        force_threshold: f32::INFINITY,
+        torque_threshold: f32::INFINITY,
         bodies: [0, 1].map(BodyId::scene),
         anchor: [0.0, 0.0],
         limit: None,
@@ -226,6 +232,8 @@ fn a_prismatic_joint_keeps_the_body_on_its_axis_and_its_limit_stops_it() {
         -std::f32::consts::FRAC_1_SQRT_2,
     ];
     let slider = JointDef::Prismatic {
+        force_threshold: f32::INFINITY,
+        torque_threshold: f32::INFINITY,
         bodies: [0, 1].map(BodyId::scene),
         anchor: [0.0, 0.0],
         axis,
@@ -271,6 +279,8 @@ fn a_prismatic_joint_keeps_the_body_on_its_axis_and_its_limit_stops_it() {
 fn a_distance_joint_is_a_rod_a_spring_or_a_rope() {
     // Rod: a ball on a 2 m rod from a fixed point keeps 2 m while it swings.
     let rod = JointDef::Distance {
+        force_threshold: f32::INFINITY,
+        torque_threshold: f32::INFINITY,
         bodies: [0, 1].map(BodyId::scene),
         anchors: [[0.0, 0.0], [2.0, 0.0]],
         length: None,
@@ -287,6 +297,8 @@ fn a_distance_joint_is_a_rod_a_spring_or_a_rope() {
     // Rope: slack (hertz 0) with the length capped at 2 m; a ball dropped from 1 m below
     // the anchor falls freely until the rope is taut, then hangs 2 m down.
     let rope = JointDef::Distance {
+        force_threshold: f32::INFINITY,
+        torque_threshold: f32::INFINITY,
         bodies: [0, 1].map(BodyId::scene),
         anchors: [[0.0, 0.0], [0.0, -1.0]],
         length: Some(2.0),
@@ -309,6 +321,8 @@ fn a_distance_joint_is_a_rod_a_spring_or_a_rope() {
     assert!((y + 2.0).abs() < 0.01, "rope end at {y}");
     // Spring: a 1 kg-ish ball on a stiff spring of rest length 1 m hangs at 1 + m g / k.
     let spring = JointDef::Distance {
+        force_threshold: f32::INFINITY,
+        torque_threshold: f32::INFINITY,
         bodies: [0, 1].map(BodyId::scene),
         anchors: [[0.0, 0.0], [0.0, -1.0]],
         length: None,
@@ -343,6 +357,8 @@ fn a_weld_holds_a_cantilever_and_a_soft_weld_sags_like_its_spring() {
     })
     .at(0.5, 0.0);
     let weld = |angular_hertz: f32| JointDef::Weld {
+        force_threshold: f32::INFINITY,
+        torque_threshold: f32::INFINITY,
         bodies: [0, 1].map(BodyId::scene),
         anchor: [0.0, 0.0],
         linear_hertz: 0.0,
@@ -403,6 +419,8 @@ fn a_motor_joint_brings_a_body_to_its_offset_and_a_mouse_joint_drags_one() {
         .at(1.0, 0.0),
     ];
     scene.joints = vec![JointDef::Motor {
+        force_threshold: f32::INFINITY,
+        torque_threshold: f32::INFINITY,
         bodies: [0, 1].map(BodyId::scene),
         linear_offset: Some([2.0, 0.0]),
         angular_offset: Some(0.5),
@@ -461,6 +479,8 @@ fn joined_bodies_do_not_touch_unless_the_joint_lets_them() {
     scene.bodies = boxes();
     for collide in [false, true] {
         scene.joints = vec![JointDef::Revolute {
+            force_threshold: f32::INFINITY,
+            torque_threshold: f32::INFINITY,
             bodies: [0, 1].map(BodyId::scene),
             anchor: [0.25, 0.0],
             limit: None,
@@ -572,7 +592,18 @@ fn bad_joints_are_refused_with_their_index_and_field() {
         .1,
         "Revolute.anchor"
     );
+    let hinge = JointDef::hinge([0, 1].map(BodyId::scene), [0.0, 0.0]);
+    assert_eq!(
+        refused(vec![hinge.clone().with_thresholds(-1.0, 1.0)]).1,
+        "Revolute.force_threshold"
+    );
+    assert_eq!(
+        refused(vec![hinge.with_thresholds(1.0, f32::NAN)]).1,
+        "Revolute.torque_threshold"
+    );
     let limited = |limit| JointDef::Revolute {
+        force_threshold: f32::INFINITY,
+        torque_threshold: f32::INFINITY,
         bodies: [0, 1].map(BodyId::scene),
         anchor: [0.0, 0.0],
         limit: Some(limit),
@@ -584,6 +615,8 @@ fn bad_joints_are_refused_with_their_index_and_field() {
     assert_eq!(refused(vec![limited([0.5, -0.5])]).1, "Revolute.limit");
     assert_eq!(refused(vec![limited([-4.0, 0.5])]).1, "Revolute.limit");
     let slider = |axis, torque: f32| JointDef::Wheel {
+        force_threshold: f32::INFINITY,
+        torque_threshold: f32::INFINITY,
         bodies: [0, 1].map(BodyId::scene),
         anchor: [0.0, 0.0],
         axis,
@@ -601,6 +634,8 @@ fn bad_joints_are_refused_with_their_index_and_field() {
         "Wheel.motor.max_torque"
     );
     let spring = JointDef::Distance {
+        force_threshold: f32::INFINITY,
+        torque_threshold: f32::INFINITY,
         bodies: [0, 1].map(BodyId::scene),
         anchors: [[0.0, 0.0], [0.0, -1.0]],
         length: None,
@@ -613,6 +648,8 @@ fn bad_joints_are_refused_with_their_index_and_field() {
     };
     assert_eq!(refused(vec![spring]).1, "Distance.spring.hertz");
     let zero = JointDef::Distance {
+        force_threshold: f32::INFINITY,
+        torque_threshold: f32::INFINITY,
         bodies: [0, 1].map(BodyId::scene),
         anchors: [[0.0, -1.0], [0.0, -1.0]],
         length: None,
@@ -679,6 +716,8 @@ fn a_snapshot_mid_run_keeps_the_joints_impulses_and_continues_bit_for_bit() {
     }
     bodies.push(ball(0.0, -3.0, 0.3));
     joints.push(JointDef::Revolute {
+        force_threshold: f32::INFINITY,
+        torque_threshold: f32::INFINITY,
         bodies: [0, 5].map(BodyId::scene),
         anchor: [0.0, -2.0],
         limit: None,

@@ -5,8 +5,9 @@
 //! Their order never depends on the thread count: contact events come from the serial pass
 //! over the contacts in contact order (`update_touching`), hits in the order their contacts
 //! began, and sensor events sensor by sensor (by shape slot), each sensor's visitors by shape
-//! slot. A step's list is, in that order: contact begins and ends (interleaved in contact
-//! order), hits, then sensor ends and begins (interleaved by visitor).
+//! slot, joint thresholds by joint slot. A step's list is, in that order: contact begins and
+//! ends (interleaved in contact order), hits, sensor ends and begins (interleaved by
+//! visitor), then joints past their thresholds.
 //!
 //! The list holds the last step's events and any made since by a change between steps
 //! (destroying a touching body ends its contacts at once, as Box2D's `b2DestroyContact`
@@ -19,7 +20,7 @@ use glam::Vec2;
 use super::query::shapes_overlap;
 use super::{NONE, World, pair_key};
 use crate::def::BodyKind;
-use crate::id::{BodyId, ShapeId};
+use crate::id::{BodyId, JointId, ShapeId};
 use crate::math::{Rot, Transform};
 
 /// A shape as an event names it: its id, its body's id, and its place among the body's parts
@@ -76,6 +77,16 @@ pub enum Event {
         /// The shape that left it.
         visitor: ShapeRef,
     },
+    /// A joint's reaction in the step passed its `force_threshold` or `torque_threshold`
+    /// (Box2D v3.1's joint event). The joint is not destroyed: the game decides.
+    JointThreshold {
+        /// The joint.
+        joint: JointId,
+        /// The size of its reaction force in the step (N).
+        force: f32,
+        /// The size of its reaction torque in the step (N·m).
+        torque: f32,
+    },
 }
 
 impl Event {
@@ -87,18 +98,21 @@ impl Event {
             Event::Hit { .. } => "hit",
             Event::SensorBegin { .. } => "sensor_begin",
             Event::SensorEnd { .. } => "sensor_end",
+            Event::JointThreshold { .. } => "joint_threshold",
         }
     }
 
-    /// The two shapes it names: a contact's by body slot, a sensor's sensor first.
-    pub fn shapes(&self) -> [ShapeRef; 2] {
+    /// The two shapes it names: a contact's by body slot, a sensor's sensor first; none
+    /// for a joint's.
+    pub fn shapes(&self) -> Option<[ShapeRef; 2]> {
         match *self {
             Event::ContactBegin { shapes }
             | Event::ContactEnd { shapes }
-            | Event::Hit { shapes, .. } => shapes,
+            | Event::Hit { shapes, .. } => Some(shapes),
             Event::SensorBegin { sensor, visitor } | Event::SensorEnd { sensor, visitor } => {
-                [sensor, visitor]
+                Some([sensor, visitor])
             }
+            Event::JointThreshold { .. } => None,
         }
     }
 }
@@ -404,6 +418,40 @@ impl World {
     }
 }
 
+impl World {
+    /// Joint thresholds (after the solve; reads the joints with a finite threshold, their
+    /// reactions and their bodies' awake flags; writes joint events): an awake joint whose
+    /// reaction force or torque in the step passed its threshold is reported, by joint slot
+    /// (Box2D v3.1's `b2JointEvent`). A world with no threshold skips this.
+    pub(super) fn gather_joint_thresholds(&mut self) {
+        if self.joints.thresholded.is_empty() {
+            return;
+        }
+        let inv_h = self.joints.last_inv_h;
+        for n in 0..self.joints.thresholded.len() {
+            let k = self.joints.thresholded[n] as usize;
+            let j = self.current(k);
+            let awake = &self.bodies.awake;
+            if !(awake[j.body_a as usize] || awake[j.body_b as usize]) {
+                continue;
+            }
+            let (f, t) = j.reaction(inv_h);
+            let (force, torque) = (f.length(), t.abs());
+            if force > j.force_threshold || torque > j.torque_threshold {
+                let joint = JointId {
+                    index: k as u32,
+                    generation: self.joints.slots.generation(k),
+                };
+                self.events.events.push(Event::JointThreshold {
+                    joint,
+                    force,
+                    torque,
+                });
+            }
+        }
+    }
+}
+
 /// Walks two sorted overlap lists, calling `f(visitor, began)` for each shape in `new` only
 /// (began) or in `old` only (ended), in slot order; a slot held by another generation is one
 /// shape ending and another beginning.
@@ -683,7 +731,7 @@ mod world_tests {
         let leave = (enter..heights.len())
             .find(|&k| !inside(heights[k]))
             .unwrap();
-        let refs = |e: &Event| e.shapes().map(|r| r.body);
+        let refs = |e: &Event| e.shapes().unwrap().map(|r| r.body);
         assert_eq!(seen.len(), 2, "{seen:?}");
         assert!(matches!(seen[0].1, Event::SensorBegin { .. }));
         assert!(matches!(seen[1].1, Event::SensorEnd { .. }));
@@ -741,7 +789,7 @@ mod world_tests {
                 seen.push((k, e));
             }
         }
-        let refs = |e: &Event| e.shapes().map(|r| r.body);
+        let refs = |e: &Event| e.shapes().unwrap().map(|r| r.body);
         assert_eq!(seen.len(), 2, "{seen:?}");
         assert!(matches!(seen[0].1, Event::SensorBegin { .. }));
         assert!(matches!(seen[1].1, Event::SensorEnd { .. }));

@@ -113,6 +113,9 @@ impl World {
             hertz: 0.0,
             damping_ratio: 0.0,
             kind: JointKind::Mouse(Mouse::new(target, hertz, damping_ratio, max_force)),
+            force_threshold: f32::INFINITY,
+            torque_threshold: f32::INFINITY,
+            user_data: 0,
             step: Default::default(),
         };
         let id = self.insert_joint(joint);
@@ -196,7 +199,7 @@ impl World {
         self.bodies.sims[body as usize].kind == BodyKind::Dynamic
     }
 
-    fn joint_slot(&self, id: JointId) -> Result<usize, WorldError> {
+    pub(super) fn joint_slot(&self, id: JointId) -> Result<usize, WorldError> {
         if self.joints.slots.holds(id.index, id.generation) {
             Ok(id.index as usize)
         } else {
@@ -328,6 +331,15 @@ impl World {
                     mouse: matches!(j.kind, JointKind::Mouse(_)),
                     chain: chain::eligible(j),
                 }));
+            self.joints.thresholded.clear();
+            let (slots, list) = (&self.joints.slots, &self.joints.list);
+            self.joints
+                .thresholded
+                .extend((0..list.len() as u32).filter(|&k| {
+                    let j = &list[k as usize];
+                    slots.is_alive(k as usize)
+                        && (j.force_threshold < f32::INFINITY || j.torque_threshold < f32::INFINITY)
+                }));
             self.joints.meta_stale = false;
         }
         let awake_dynamic = |i: u32| {
@@ -440,7 +452,7 @@ impl World {
     /// Readies the joint store for a change: the solver's live impulses are written back
     /// first, and the step's walk over the joints (`Joints::meta`, the chains) is rebuilt at
     /// the next step. Every change to a joint, its kind or the set of joints comes here.
-    fn edit_joints(&mut self) {
+    pub(super) fn edit_joints(&mut self) {
         self.sync_joints();
         self.joints.meta_stale = true;
     }

@@ -17,6 +17,7 @@ mod body_properties;
 mod continuous;
 mod events;
 mod forces;
+mod joint_state;
 mod joints;
 mod query;
 mod read;

@@ -127,6 +127,7 @@ impl World {
             self.gather_hits(dt);
         }
         self.overlap_sensors();
+        self.gather_joint_thresholds();
         profile.events_ms = ms(t);
 
         profile.inline = crew.is_none();

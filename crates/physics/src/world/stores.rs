@@ -379,6 +379,8 @@ pub(super) struct Joints {
     /// made, destroyed or edited (`meta_stale`).
     pub meta: Vec<JointMeta>,
     pub meta_stale: bool,
+    /// Live joints with a finite force or torque threshold, by slot (rebuilt with `meta`).
+    pub thresholded: Vec<u32>,
 }
 
 /// What the world counts over its life and measures each step.

@@ -369,7 +369,7 @@ fn tools_ui(ui: &mut egui::Ui, st: &mut Simulation) {
 /// The event log: counts since the scene started, and the last events of the kinds ticked,
 /// newest first.
 fn events_ui(ui: &mut egui::Ui, st: &mut Simulation) {
-    const KINDS: [&str; 5] = ["begin", "end", "hit", "sensor in", "sensor out"];
+    const KINDS: [&str; 6] = ["begin", "end", "hit", "sensor in", "sensor out", "joint"];
     egui::CollapsingHeader::new(RichText::new("Events").strong())
         .id_salt("events")
         .show(ui, |ui| {
@@ -400,15 +400,29 @@ fn events_ui(ui: &mut egui::Ui, st: &mut Simulation) {
 
 /// One line of the event log.
 fn event_line(step: u64, event: &tumble_physics::Event) -> String {
-    let [a, b] = event.shapes();
-    let mut line = format!(
-        "{step:>6} {:<13} {}.{} {}.{}",
-        event.name(),
-        a.body.index,
-        a.part,
-        b.body.index,
-        b.part
-    );
+    let mut line = match (event, event.shapes()) {
+        (_, Some([a, b])) => format!(
+            "{step:>6} {:<13} {}.{} {}.{}",
+            event.name(),
+            a.body.index,
+            a.part,
+            b.body.index,
+            b.part
+        ),
+        (
+            tumble_physics::Event::JointThreshold {
+                joint,
+                force,
+                torque,
+            },
+            None,
+        ) => format!(
+            "{step:>6} {:<13} joint {} {force:.0} N {torque:.0} N·m",
+            event.name(),
+            joint.index
+        ),
+        (_, None) => format!("{step:>6} {}", event.name()),
+    };
     if let tumble_physics::Event::Hit { approach_speed, .. } = event {
         line.push_str(&format!(" {approach_speed:.1} m/s"));
     }
