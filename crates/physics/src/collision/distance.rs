@@ -53,6 +53,11 @@ impl Proxy {
         p
     }
 
+    /// Its core's points (the hull it rounds by `radius`).
+    pub fn core(&self) -> &[Vec2] {
+        &self.points[..self.count]
+    }
+
     /// The farthest of its points from its frame's origin (a bound on how far a point of the
     /// core moves when the frame turns by an angle).
     pub fn reach(&self) -> f32 {

@@ -16,6 +16,7 @@ mod bodies;
 mod body_properties;
 mod continuous;
 mod events;
+mod explode;
 mod forces;
 mod joint_state;
 mod joints;
@@ -46,6 +47,7 @@ use crate::solver::{ContactInput, NOT_DYNAMIC, Solver, SolverBody, SolverContact
 
 use crate::threads::{THREAD_SOURCE, default_thread_count, start_crew};
 pub use events::{BodyMove, Event, EventCursor, ShapeRef};
+pub use explode::ExplosionDef;
 pub use query::{QueryFilter, RayHit};
 pub use settings::{StepSettings, WideThresholds};
 pub use snapshot::WorldSnapshot;

@@ -15,6 +15,7 @@ use crate::collision::broad_phase::{BroadPhase, ray_may_cross};
 use crate::collision::distance::{Impact, Proxy, Sweep, distance, time_of_impact};
 use crate::collision::{Ray, ray_cast};
 use crate::def::Filter;
+use crate::id::BodyId;
 use crate::math::Transform;
 use crate::shape::{Aabb, Shape};
 
@@ -29,6 +30,9 @@ pub struct QueryFilter {
     pub mask: u64,
     /// Whether it sees sensor shapes.
     pub sensors: bool,
+    /// A body whose shapes it does not see (a character's own, when it casts from inside
+    /// itself); Box2D has no such field and filters in the callback.
+    pub exclude_body: Option<BodyId>,
 }
 
 impl Default for QueryFilter {
@@ -38,6 +42,7 @@ impl Default for QueryFilter {
             category: 1,
             mask: u64::MAX,
             sensors: false,
+            exclude_body: None,
         }
     }
 }
@@ -49,7 +54,14 @@ impl QueryFilter {
         category: u64::MAX,
         mask: u64::MAX,
         sensors: true,
+        exclude_body: None,
     };
+
+    /// The same filter, not seeing `body`'s shapes.
+    pub fn excluding(mut self, body: BodyId) -> QueryFilter {
+        self.exclude_body = Some(body);
+        self
+    }
 
     fn sees(&self, filter: &Filter, sensor: bool) -> bool {
         if *self == QueryFilter::ALL {
@@ -112,7 +124,10 @@ impl World {
     /// Whether shape slot `s` is live and `filter` sees it.
     fn seen(&self, s: u32, filter: &QueryFilter) -> bool {
         let r = &self.shapes.records[s as usize];
-        self.shapes.slots.is_alive(s as usize) && filter.sees(&r.filter, r.sensor)
+        let excluded = filter.exclude_body.is_some_and(|b| {
+            b.index == r.body && b.generation == self.bodies.slots.generation(r.body as usize)
+        });
+        self.shapes.slots.is_alive(s as usize) && !excluded && filter.sees(&r.filter, r.sensor)
     }
 
     /// Calls `f(shape slot)` for every shape `filter` sees whose fat box overlaps `aabb`,
@@ -488,6 +503,23 @@ mod tests {
                 .map(|h| h.shape.body)
                 .collect();
             assert_eq!(seen, [ids[0], ids[1], ids[3], ids[4]]);
+            // A query that leaves out the first body: the closest hit is the second, and
+            // no cast, overlap or shape cast sees the first.
+            let not_first = QueryFilter::default().excluding(ids[0]);
+            let next = w.cast_ray_closest(o, d, &not_first).unwrap();
+            assert_eq!(next.shape.body, ids[1]);
+            let first_box = w.body(ids[0]).unwrap().position;
+            let mut seen = Vec::new();
+            w.overlap_point(first_box, &not_first, |r| {
+                seen.push(r.body);
+                true
+            });
+            assert!(seen.is_empty(), "{seen:?}");
+            w.overlap_point(first_box, &QueryFilter::default(), |r| {
+                seen.push(r.body);
+                true
+            });
+            assert_eq!(seen, [ids[0]]);
             // Ignoring every hit (a negative return) and stopping at the first (0).
             let mut calls = 0;
             w.cast_ray(o, d, &QueryFilter::default(), |_| {
