@@ -96,8 +96,9 @@ pub use shape::{
 };
 pub use threads::{SpawnWorker, default_thread_count, set_thread_source};
 pub use world::{
-    BodyMove, BodyView, ContactView, Event, EventCursor, ExplosionDef, QueryFilter, RayHit,
-    ShapeRef, ShapeView, StepSettings, WideThresholds, World, WorldError, WorldSnapshot,
+    BodyMove, BodyView, ContactView, CustomFilter, Event, EventCursor, ExplosionDef, PreSolve,
+    QueryFilter, RayHit, ShapeRef, ShapeView, StepSettings, WideThresholds, World, WorldError,
+    WorldSnapshot,
 };
 
 /// Length tolerance used by collision (Box2D's `B2_LINEAR_SLOP`, 5 mm).

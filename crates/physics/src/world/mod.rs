@@ -18,6 +18,7 @@ mod continuous;
 mod events;
 mod explode;
 mod forces;
+mod hooks;
 mod joint_state;
 mod joints;
 mod query;
@@ -48,6 +49,7 @@ use crate::solver::{ContactInput, NOT_DYNAMIC, Solver, SolverBody, SolverContact
 use crate::threads::{THREAD_SOURCE, default_thread_count, start_crew};
 pub use events::{BodyMove, Event, EventCursor, ShapeRef};
 pub use explode::ExplosionDef;
+pub use hooks::{CustomFilter, PreSolve};
 pub use query::{QueryFilter, RayHit};
 pub use settings::{StepSettings, WideThresholds};
 pub use snapshot::WorldSnapshot;
@@ -358,6 +360,8 @@ pub struct World {
     events: events::EventLog,
     /// Each sensor shape's overlaps after the last step.
     sensors: events::SensorOverlaps,
+    /// The game's custom filter and pre-solve callback.
+    hooks: hooks::Hooks,
     sweeps: Sweeps,
     stats: Stats,
     workers: Workers,
@@ -406,6 +410,7 @@ impl World {
             solver: Solver::new(),
             events: events::EventLog::default(),
             sensors: events::SensorOverlaps::new(),
+            hooks: hooks::Hooks::default(),
             sweeps: Sweeps::default(),
             stats: Stats::default(),
             workers: Workers {

@@ -21,6 +21,7 @@ use crate::SPECULATIVE_DISTANCE;
 use crate::body::BodyState;
 use crate::collision::{Manifold, collide};
 use crate::def::BodyKind;
+use crate::id::ShapeId;
 use crate::math::{Transform, cross_sv, dot};
 use crate::profile::StepProfile;
 use crate::shape::{Aabb, Shape};
@@ -240,6 +241,12 @@ impl World {
         // Cheapest refusals first: in a resting pile nearly every pair a moved proxy finds
         // has its contact already, and the map says so before the shapes are read.
         let no_collide = &self.joints.no_collide;
+        let custom_filter = self.hooks.custom_filter.as_deref();
+        let shape_slots = &self.shapes.slots;
+        let shape_id = |s: u32| ShapeId {
+            index: s,
+            generation: shape_slots.generation(s as usize),
+        };
         let wants_contact = |p: u32, q: u32| {
             let (bp_, bq) = (body_of[p as usize], body_of[q as usize]);
             bp_ != bq
@@ -252,6 +259,8 @@ impl World {
                     !rp.sensor && !rq.sensor && rp.filter.should_collide(&rq.filter)
                 }
                 && Shape::pair_collides(&shapes[p as usize], &shapes[q as usize])
+                // The game's say last: it is asked only of pairs that would touch.
+                && custom_filter.is_none_or(|f| f(shape_id(p.min(q)), shape_id(p.max(q))))
         };
         if self.shapes.moved_proxies.len() * 2 > self.shapes.tree.proxy_count() {
             // Most proxies moved (smash, an explosion, the first step): walk the tree against
@@ -388,6 +397,24 @@ impl World {
         let cores = &self.shapes.unswept_boxes;
         let moved = &self.shapes.moved_flags;
         let recycling = self.settings.contact_recycling;
+        let pre_solve = self.hooks.pre_solve.as_deref();
+        let shape_slots = &self.shapes.slots;
+        // The game's pre-solve: a contact it refuses has no points this step, and no cache
+        // (recycling would keep the empty manifold).
+        let ask = |c: &mut Contact| {
+            if let Some(f) = pre_solve
+                && c.manifold.count > 0
+            {
+                let id = |s: u32| ShapeId {
+                    index: s,
+                    generation: shape_slots.generation(s as usize),
+                };
+                if !f(id(c.shape_a), id(c.shape_b), c.manifold.normal) {
+                    c.manifold.count = 0;
+                    c.cache = None;
+                }
+            }
+        };
         let collide_one = |c: &mut Contact, key: &mut ContactKey| -> (usize, usize) {
             if key.frozen {
                 return (0, 0);
@@ -425,6 +452,7 @@ impl World {
                 (vb.v - va.v).length() + va.w.abs() * sims[a].extent + vb.w.abs() * sims[b].extent
             };
             if recycling && recycle(c, &sims[a], &sims[b], dt, closing) {
+                ask(c);
                 key.touching = c.manifold.count > 0;
                 return (1, usize::from(key.touching != was));
             }
@@ -490,7 +518,8 @@ impl World {
                 relative: xa.inv_mul(xb),
                 closing_reach,
             });
-            key.touching = m.count > 0;
+            ask(c);
+            key.touching = c.manifold.count > 0;
             (0, usize::from(key.touching != was))
         };
         let sum = |a: (usize, usize), b: (usize, usize)| (a.0 + b.0, a.1 + b.1);
