@@ -84,6 +84,15 @@ pub struct PartDef {
     #[serde(default, skip_serializing_if = "is_false")]
     #[cfg_attr(feature = "schema", schemars(extend("default" = false)))]
     pub sensor: bool,
+    /// How fast the part's surface moves along itself (m/s; positive: clockwise around the
+    /// shape, rightwards along its top): a conveyor belt. Friction drives what touches it to
+    /// that speed (Box2D v3.1's `tangentSpeed`).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub tangent_speed: f32,
+}
+
+fn is_zero(x: &f32) -> bool {
+    *x == 0.0
 }
 
 impl PartDef {
@@ -98,7 +107,15 @@ impl PartDef {
             restitution: None,
             filter: None,
             sensor: false,
+            tangent_speed: 0.0,
         }
+    }
+
+    /// The part's surface moving along itself at `speed` (m/s; see
+    /// [`PartDef::tangent_speed`]).
+    pub fn tangent_speed(mut self, speed: f32) -> PartDef {
+        self.tangent_speed = speed;
+        self
     }
     /// Builder: offset and angle in the body's frame.
     pub fn at(mut self, x: f32, y: f32, angle: f32) -> PartDef {
@@ -148,6 +165,13 @@ impl PartDef {
                 "a finite number",
             ));
         }
+        if !self.tangent_speed.is_finite() {
+            return Err(err(
+                &field("tangent_speed"),
+                self.tangent_speed.to_string(),
+                "a finite number (m/s)",
+            ));
+        }
         for (name, v) in [
             ("density", self.density),
             ("friction", self.friction),
@@ -182,6 +206,8 @@ pub struct ResolvedPart<'a> {
     pub filter: Filter,
     /// Sensor.
     pub sensor: bool,
+    /// Surface speed along itself (m/s).
+    pub tangent_speed: f32,
     /// Whether the part comes from `shape` (a body of one shape: a polygon is recentred and
     /// the body's position is its centre of mass) rather than from `shapes`.
     pub single: bool,
@@ -317,6 +343,7 @@ impl BodyDef {
                 restitution: self.restitution,
                 filter: self.filter,
                 sensor: false,
+                tangent_speed: 0.0,
                 single: true,
             }];
         }
@@ -331,6 +358,7 @@ impl BodyDef {
                 restitution: p.restitution.unwrap_or(self.restitution),
                 filter: p.filter.unwrap_or(self.filter),
                 sensor: p.sensor,
+                tangent_speed: p.tangent_speed,
                 single: false,
             })
             .collect()

@@ -61,6 +61,9 @@ pub struct ContactConstraint {
     pub friction: f32,
     /// Mixed restitution, `max(ea, eb)`.
     pub restitution: f32,
+    /// The surfaces' speed along the tangent (m/s): friction drives the relative tangent
+    /// velocity to it rather than to 0 (Box2D's `tangentSpeed`, a conveyor belt).
+    pub tangent_speed: f32,
     /// The contact's spring.
     pub softness: Softness,
     /// Points used.
@@ -263,7 +266,10 @@ pub fn solve(
             let t = right_perp(n);
             for p in &mut c.points[..c.count] {
                 let (ra, rb) = (p.anchor_a, p.anchor_b);
-                let vt = dot(relative_velocity(a.v, a.w, ra, b.v, b.w, rb), t);
+                let mut vt = dot(relative_velocity(a.v, a.w, ra, b.v, b.w, rb), t);
+                if c.tangent_speed != 0.0 {
+                    vt -= c.tangent_speed;
+                }
                 let impulse = -p.tangent_mass * vt;
                 let max_friction = c.friction * p.normal_impulse;
                 let new_impulse =

@@ -58,6 +58,8 @@ pub struct ContactInput<'a> {
     pub friction: f32,
     /// Mixed restitution.
     pub restitution: f32,
+    /// The surfaces' speed along the tangent (m/s; a conveyor belt), the shapes' summed.
+    pub tangent_speed: f32,
     /// This step's manifold (with warm-start impulses).
     pub manifold: &'a Manifold,
     /// Both bodies' masses, as the contact keeps them (copied when it is made, and refreshed
@@ -916,6 +918,7 @@ fn build_constraint(
         normal: m.normal,
         friction: c.friction,
         restitution: c.restitution,
+        tangent_speed: c.tangent_speed,
         softness: params.softness(&ba, &bb),
         count: m.count,
         points: [ConstraintPoint::default(); 2],

@@ -120,7 +120,8 @@ impl<'a> LaneWriter<'a> {
         let flags = u8::from(body_a.dynamic)
             | (u8::from(body_b.dynamic) << 1)
             | (u8::from(c.friction > 0.0) << 2)
-            | (u8::from(c.restitution > 0.0) << 3);
+            | (u8::from(c.restitution > 0.0) << 3)
+            | (u8::from(c.tangent_speed != 0.0) << 4);
         // SAFETY: `wide` is in bounds (asserted) and `l < LANES`; each write goes through a
         // raw pointer to this lane's own element of a lane array, which no other call
         // touches (contract of `shared`), and no reference to the shared constraint is made.
@@ -147,6 +148,7 @@ impl<'a> LaneWriter<'a> {
             put!((*w).normal_y, f32, m.normal.y);
             put!((*w).friction, f32, c.friction);
             put!((*w).restitution, f32, c.restitution);
+            put!((*w).tangent_speed, f32, c.tangent_speed);
             put!((*w).bias_rate, f32, x.softness.bias_rate);
             put!((*w).mass_scale, f32, x.softness.mass_scale);
             put!((*w).impulse_scale, f32, x.softness.impulse_scale);
@@ -232,7 +234,8 @@ pub struct WideConstraint {
     contact: [u32; LANES],
     /// Manifold points per lane.
     count: [u8; LANES],
-    /// Per lane: bit 0 body A dynamic, 1 body B dynamic, 2 friction, 3 restitution (what
+    /// Per lane: bit 0 body A dynamic, 1 body B dynamic, 2 friction, 3 restitution, 4
+    /// tangent speed (what
     /// `finish` folds into the masks below; lanes are written one by one, possibly by
     /// different workers, so nothing per-constraint is written while lanes are).
     flags: [u8; LANES],
@@ -245,6 +248,8 @@ pub struct WideConstraint {
     lanes: u8,
     any_friction: bool,
     any_restitution: bool,
+    /// A lane's surfaces move along the tangent (a conveyor): friction reads `tangent_speed`.
+    any_tangent_speed: bool,
     inv_mass_a: f32x8,
     inv_i_a: f32x8,
     inv_mass_b: f32x8,
@@ -253,6 +258,7 @@ pub struct WideConstraint {
     normal_y: f32x8,
     friction: f32x8,
     restitution: f32x8,
+    tangent_speed: f32x8,
     bias_rate: f32x8,
     mass_scale: f32x8,
     impulse_scale: f32x8,
@@ -290,6 +296,7 @@ impl WideConstraint {
         lanes: 0,
         any_friction: false,
         any_restitution: false,
+        any_tangent_speed: false,
         inv_mass_a: f32x8::ZERO,
         inv_i_a: f32x8::ZERO,
         inv_mass_b: f32x8::ZERO,
@@ -298,6 +305,7 @@ impl WideConstraint {
         normal_y: f32x8::ZERO,
         friction: f32x8::ZERO,
         restitution: f32x8::ZERO,
+        tangent_speed: f32x8::ZERO,
         bias_rate: f32x8::ZERO,
         mass_scale: f32x8::ZERO,
         impulse_scale: f32x8::ZERO,
@@ -322,6 +330,7 @@ impl WideConstraint {
         self.dynamic_b = dynamic_b;
         self.any_friction = any & 4 != 0;
         self.any_restitution = any & 8 != 0;
+        self.any_tangent_speed = any & 16 != 0;
         for l in lanes..LANES {
             self.contact[l] = 0;
             self.count[l] = 0;
@@ -337,6 +346,7 @@ impl WideConstraint {
                 &mut self.normal_y,
                 &mut self.friction,
                 &mut self.restitution,
+                &mut self.tangent_speed,
                 &mut self.bias_rate,
                 &mut self.mass_scale,
                 &mut self.impulse_scale,
@@ -676,7 +686,10 @@ fn solve_with<V: Lanes>(
             for p in &mut c.points {
                 let r = p.r.load::<V>();
                 let (dvx, dvy) = relative_velocity(&a, &b, &r);
-                let vt = dvx * tx + dvy * ty;
+                let mut vt = dvx * tx + dvy * ty;
+                if c.any_tangent_speed {
+                    vt -= V::load(c.tangent_speed);
+                }
                 let impulse = -V::load(p.tangent_mass) * vt;
                 let max_friction = friction * V::load(p.normal_impulse);
                 let old = V::load(p.tangent_impulse);

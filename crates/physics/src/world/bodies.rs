@@ -162,6 +162,7 @@ impl World {
             next: NONE,
             part: self.bodies.records[body as usize].parts,
             user_data: 0,
+            tangent_speed: part.tangent_speed,
         };
         // Appended: a body's shapes are listed in part order.
         match self.shapes_of_body(body as usize).last() {

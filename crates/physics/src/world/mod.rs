@@ -219,6 +219,9 @@ struct ShapeRecord {
     /// The caller's tag ([`World::set_shape_user_data`]); the step never reads it.
     #[serde(default)]
     user_data: u64,
+    /// How fast its surface moves along itself (m/s; a conveyor belt; 0 for most shapes).
+    #[serde(default)]
+    tangent_speed: f32,
 }
 
 impl ShapeRecord {
@@ -227,6 +230,12 @@ impl ShapeRecord {
     #[inline]
     fn mixed_friction(a: &ShapeRecord, b: &ShapeRecord) -> f32 {
         (a.friction * b.friction).sqrt()
+    }
+
+    /// A contact's tangent speed from its shapes': their sum (Box2D's rule).
+    #[inline]
+    fn mixed_tangent_speed(a: &ShapeRecord, b: &ShapeRecord) -> f32 {
+        a.tangent_speed + b.tangent_speed
     }
 
     /// A contact's restitution from its shapes': the larger (Box2D's default rule).
@@ -254,6 +263,9 @@ struct Contact {
     body_b: u32,
     friction: f32,
     restitution: f32,
+    /// The shapes' tangent speeds summed (Box2D's rule; absent from older snapshots: 0).
+    #[serde(default)]
+    tangent_speed: f32,
     manifold: Manifold,
     /// Poses when the manifold was last computed, for contact recycling.
     cache: Option<ContactCache>,
@@ -318,6 +330,7 @@ impl SolverContact for Contact {
             body_b: self.body_b,
             friction: self.friction,
             restitution: self.restitution,
+            tangent_speed: self.tangent_speed,
             manifold: &self.manifold,
             masses: self.masses,
         }

@@ -368,6 +368,7 @@ impl World {
             body_b: rb.body,
             friction: ShapeRecord::mixed_friction(ra, rb),
             restitution: ShapeRecord::mixed_restitution(ra, rb),
+            tangent_speed: ShapeRecord::mixed_tangent_speed(ra, rb),
             manifold: Manifold::default(),
             cache: None,
             touched: false,
