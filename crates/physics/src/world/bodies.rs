@@ -765,6 +765,28 @@ impl World {
     }
 }
 
+/// Refuses `value` for object `id`'s `what`: the error names the object and the value.
+pub(super) fn invalid(id: impl std::fmt::Display, what: &str, value: f32, why: &str) -> WorldError {
+    WorldError::Invalid {
+        what: format!("{what} {value} for {id}"),
+        why: why.into(),
+    }
+}
+
+/// `Ok` for a finite value ≥ 0 (a damping, a friction, a density), else the error that names
+/// object `id` and the value.
+pub(super) fn non_negative(
+    id: impl std::fmt::Display,
+    what: &str,
+    value: f32,
+) -> Result<(), WorldError> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(())
+    } else {
+        Err(invalid(id, what, value, "it must be finite and >= 0"))
+    }
+}
+
 /// `Ok` if both coordinates are finite, else the error that names the value.
 pub(super) fn finite(what: &str, v: Vec2) -> Result<(), WorldError> {
     if v.is_finite() {

@@ -2,7 +2,7 @@
 //! rotation, sleep, mass data; each checked, each keeping every copy the step reads in
 //! agreement (the motion flags, the solver's masses, the contacts' copies of them).
 
-use super::bodies::finite;
+use super::bodies::{finite, invalid, non_negative};
 use super::{World, WorldError};
 use crate::body::BodyMass;
 use crate::def::BodyKind;
@@ -173,23 +173,6 @@ impl World {
             center: self.local_center(id)?,
             inertia: self.inertia(id)?,
         })
-    }
-}
-
-/// Refuses a value for body `id`'s `what`.
-fn invalid(id: BodyId, what: &str, value: f32, why: &str) -> WorldError {
-    WorldError::Invalid {
-        what: format!("{what} {value} for {id}"),
-        why: why.into(),
-    }
-}
-
-/// A damping: finite and ≥ 0.
-fn non_negative(id: BodyId, what: &str, value: f32) -> Result<(), WorldError> {
-    if value.is_finite() && value >= 0.0 {
-        Ok(())
-    } else {
-        Err(invalid(id, what, value, "it must be finite and >= 0"))
     }
 }
 

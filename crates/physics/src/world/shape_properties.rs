@@ -2,6 +2,7 @@
 //! shape or a sensor now. A material change reaches the shape's contacts at once; a density
 //! change, its body's mass; a filter change, the pairs the broad phase finds.
 
+use super::bodies::{invalid, non_negative};
 use super::{ContactView, ShapeRecord, World, WorldError};
 use crate::body::BodyMass;
 use crate::def::{BodyKind, Filter};
@@ -122,10 +123,7 @@ impl World {
     pub fn set_tangent_speed(&mut self, id: ShapeId, speed: f32) -> Result<(), WorldError> {
         let s = self.shape_slot(id)?;
         if !speed.is_finite() {
-            return Err(WorldError::Invalid {
-                what: format!("tangent speed {speed} for {id}"),
-                why: "it must be finite".into(),
-            });
+            return Err(invalid(id, "tangent speed", speed, "it must be finite"));
         }
         self.shapes.records[s].tangent_speed = speed;
         self.remix_contacts(s as u32);
@@ -211,18 +209,6 @@ impl World {
                 c.tangent_speed = ShapeRecord::mixed_tangent_speed(a, b);
             }
         }
-    }
-}
-
-/// A material value: finite and ≥ 0.
-fn non_negative(id: ShapeId, what: &str, value: f32) -> Result<(), WorldError> {
-    if value.is_finite() && value >= 0.0 {
-        Ok(())
-    } else {
-        Err(WorldError::Invalid {
-            what: format!("{what} {value} for {id}"),
-            why: "it must be finite and >= 0".into(),
-        })
     }
 }
 
