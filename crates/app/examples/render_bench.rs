@@ -10,7 +10,7 @@ use std::time::Instant;
 use glam::Vec2;
 use tumble_app::camera::{Camera, world_bounds};
 use tumble_app::render::{Headless, SceneRenderer, Target, encode_frame};
-use tumble_app::settings::DebugDraw;
+use tumble_app::settings::DebugLayers;
 use tumble_app::sim::Sim;
 use tumble_app::state::View;
 
@@ -26,7 +26,7 @@ fn main() -> anyhow::Result<()> {
     camera.fit(world_bounds(&sim.world), (Vec2::ZERO, camera.viewport));
     let mut renderer = SceneRenderer::new(&gpu.device, format);
     let target = Target::new(&gpu.device, width, height, format);
-    let debug = DebugDraw::default();
+    let debug = DebugLayers::default();
     let mut times = Vec::with_capacity(frames as usize);
     for _ in 0..frames {
         let start = Instant::now();

@@ -313,7 +313,7 @@ impl Gfx {
     fn render(
         &mut self,
         view: Option<crate::render::View<'_>>,
-        debug: &crate::settings::DebugDraw,
+        debug: &crate::settings::DebugLayers,
         primitives: &[egui::ClippedPrimitive],
         textures: &mut egui::TexturesDelta,
         pixels_per_point: f32,
@@ -338,7 +338,7 @@ impl Gfx {
     fn draw(
         &mut self,
         view: Option<crate::render::View<'_>>,
-        debug: &crate::settings::DebugDraw,
+        debug: &crate::settings::DebugLayers,
         primitives: &[egui::ClippedPrimitive],
         pixels_per_point: f32,
         capture: bool,

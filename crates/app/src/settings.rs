@@ -19,7 +19,7 @@ pub const STORAGE_KEY: &str = "tumble.settings";
 /// What to draw besides the bodies.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(default)]
-pub struct DebugDraw {
+pub struct DebugLayers {
     /// Contact points (red: touching, yellow: speculative).
     pub contacts: bool,
     /// Contact normals at each point, and each chain segment's pushing side.
@@ -55,7 +55,7 @@ pub struct Settings {
     /// Whether the profile panel is open.
     pub profile_open: bool,
     /// Debug drawing.
-    pub debug: DebugDraw,
+    pub debug: DebugLayers,
     /// Wait for the display's refresh (vsync).
     pub vsync: bool,
 }
@@ -67,9 +67,9 @@ impl Default for Settings {
             scene: crate::DEFAULT_SCENE.to_string(),
             panel_open: true,
             profile_open: false,
-            debug: DebugDraw {
+            debug: DebugLayers {
                 grid: true,
-                ..DebugDraw::default()
+                ..DebugLayers::default()
             },
             vsync: true,
         }

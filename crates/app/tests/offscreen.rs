@@ -16,7 +16,7 @@ use glam::Vec2;
 use tumble_app::camera::Camera;
 use tumble_app::render::instances::{dynamic_color, palette};
 use tumble_app::render::{Headless, Image, SceneRenderer, Target, encode_frame, read_texture};
-use tumble_app::settings::DebugDraw;
+use tumble_app::settings::DebugLayers;
 use tumble_app::sim::Sim;
 use tumble_app::state::View;
 use tumble_physics::{BodyDef, BodyKind, SceneDef, ShapeDef};
@@ -102,7 +102,12 @@ fn gpu() -> Headless {
 }
 
 /// Renders `sim` through `camera` into an offscreen texture and reads it back.
-fn render(gpu: &Headless, sim: &Sim, camera: &Camera, debug: &DebugDraw) -> (Image, SceneRenderer) {
+fn render(
+    gpu: &Headless,
+    sim: &Sim,
+    camera: &Camera,
+    debug: &DebugLayers,
+) -> (Image, SceneRenderer) {
     let format = wgpu::TextureFormat::Rgba8Unorm;
     let mut renderer = SceneRenderer::new(&gpu.device, format);
     let view = View {
@@ -143,7 +148,7 @@ fn reference_path() -> PathBuf {
 fn frame_matches_the_reference_image() {
     let gpu = gpu();
     let sim = Sim::new(Arc::new(scene()), 1).unwrap();
-    let (image, renderer) = render(&gpu, &sim, &camera(), &DebugDraw::default());
+    let (image, renderer) = render(&gpu, &sim, &camera(), &DebugLayers::default());
     // Two shape kinds, no lines: two draw calls.
     assert_eq!(renderer.draw_calls(), 2);
     assert_eq!(renderer.counts()[..2], [2, 4]);
@@ -190,7 +195,7 @@ fn circle_pixels_land_where_the_camera_puts_them() {
     let gpu = gpu();
     let sim = Sim::new(Arc::new(scene()), 1).unwrap();
     let cam = camera();
-    let (image, _) = render(&gpu, &sim, &cam, &DebugDraw::default());
+    let (image, _) = render(&gpu, &sim, &cam, &DebugLayers::default());
     let fill = to_u8(dynamic_color(CIRCLE_BODY));
     let background = to_u8(palette::BACKGROUND);
     let px = |p: Vec2| {
@@ -255,7 +260,7 @@ fn debug_lines_are_one_more_draw_call_and_buffers_grow_geometrically() {
         6.0,
         Vec2::new(WIDTH as f32, HEIGHT as f32),
     );
-    let debug = DebugDraw {
+    let debug = DebugLayers {
         contacts: true,
         aabbs: true,
         tree: true,
@@ -317,7 +322,7 @@ fn every_part_of_a_compound_body_is_drawn_and_a_sleeping_one_faded() {
             && !sim.world.is_awake(BodyId::scene(1)).unwrap()
     );
     let cam = Camera::new(Vec2::ZERO, 25.0, Vec2::new(WIDTH as f32, HEIGHT as f32));
-    let (image, renderer) = render(&gpu, &sim, &cam, &DebugDraw::default());
+    let (image, renderer) = render(&gpu, &sim, &cam, &DebugLayers::default());
     // Two bodies, four shapes: two circles, two polygons.
     assert_eq!(renderer.counts()[..2], [2, 2]);
     let px = |p: Vec2| {
@@ -390,7 +395,7 @@ fn capsules_and_rounded_boxes_are_round_and_segments_are_lines() {
     );
     let sim = Sim::new(Arc::new(scene), 1).unwrap();
     let cam = Camera::new(Vec2::ZERO, 25.0, Vec2::new(WIDTH as f32, HEIGHT as f32));
-    let (image, renderer) = render(&gpu, &sim, &cam, &DebugDraw::default());
+    let (image, renderer) = render(&gpu, &sim, &cam, &DebugLayers::default());
     // The capsule and the rounded box through the polygon pipeline; the segment and the
     // chain's one segment as lines: two draw calls.
     let [circles, polygons, lines] = renderer.counts();
@@ -470,7 +475,7 @@ fn joints_are_drawn_between_their_anchors() {
     });
     let sim = Sim::new(Arc::new(scene), 1).unwrap();
     let cam = Camera::new(Vec2::ZERO, 25.0, Vec2::new(WIDTH as f32, HEIGHT as f32));
-    let (image, renderer) = render(&gpu, &sim, &cam, &DebugDraw::default());
+    let (image, renderer) = render(&gpu, &sim, &cam, &DebugLayers::default());
     let [circles, _, lines] = renderer.counts();
     assert_eq!(circles, 2);
     assert!(lines > 0, "no joint drawn");

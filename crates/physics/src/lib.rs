@@ -95,10 +95,11 @@ pub use shape::{
     Aabb, Capsule, ChainSegment, Circle, MassData, Polygon, Segment, Shape, chain_segments,
 };
 pub use threads::{SpawnWorker, default_thread_count, set_thread_source};
+pub use world::draw;
 pub use world::{
-    BodyMove, BodyView, ContactView, CustomFilter, Event, EventCursor, ExplosionDef, PreSolve,
-    QueryFilter, RayHit, ShapeRef, ShapeView, StepSettings, WideThresholds, World, WorldError,
-    WorldSnapshot,
+    BodyMove, BodyView, ContactView, CustomFilter, DebugDraw, DrawOptions, Event, EventCursor,
+    ExplosionDef, PreSolve, QueryFilter, RayHit, ShapeDraw, ShapeRef, ShapeView, StepSettings,
+    WideThresholds, World, WorldError, WorldSnapshot,
 };
 
 /// Length tolerance used by collision (Box2D's `B2_LINEAR_SLOP`, 5 mm).

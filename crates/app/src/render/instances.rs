@@ -10,11 +10,13 @@ use std::mem::{offset_of, size_of};
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec2;
-use tumble_physics::{BodyId, BodyKind, MAX_POLYGON_VERTICES, Shape, World};
+use tumble_physics::{
+    BodyId, BodyKind, DebugDraw, DrawOptions, MAX_POLYGON_VERTICES, ShapeDraw, Transform, World,
+};
 use wgpu::{VertexAttribute, VertexBufferLayout, VertexFormat, VertexStepMode};
 
 use crate::camera::Camera;
-use crate::settings::DebugDraw;
+use crate::settings::DebugLayers;
 
 /// One circle: centre, rotation (cos, sin), colour, radius. 36 bytes.
 #[repr(C)]
@@ -196,15 +198,6 @@ pub fn speed_color(speed: f32) -> [f32; 3] {
     hsv(0.62 - 0.62 * t, 0.6, 0.95)
 }
 
-/// The 24 constraint-graph colours (the last one, the overflow, is white).
-pub fn graph_color(color: u8) -> [f32; 4] {
-    if color >= 23 {
-        return [1.0, 1.0, 1.0, 1.0];
-    }
-    let [r, g, b] = hsv(f32::from(color) * 0.618_034, 0.85, 1.0);
-    [r, g, b, 1.0]
-}
-
 /// How dynamic bodies are coloured.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Coloring {
@@ -219,7 +212,7 @@ pub enum Coloring {
 
 impl Coloring {
     /// The colouring the debug-draw settings ask for (islands before speed).
-    pub fn of(debug: &DebugDraw) -> Coloring {
+    pub fn of(debug: &DebugLayers) -> Coloring {
         if debug.islands {
             Coloring::Island
         } else if debug.color_by_speed {
@@ -284,6 +277,118 @@ fn with_dim(rgb: [f32; 3], dim: f32) -> [f32; 4] {
     [rgb[0] * k, rgb[1] * k, rgb[2] * k, 1.0]
 }
 
+/// The viewer's side of the library's debug drawing: solid shapes become circle and polygon
+/// instances coloured as the viewer colours bodies ([`Coloring`], dimming, see-through
+/// sensors), segment shapes and everything else become lines.
+struct Painter<'a> {
+    instances: &'a mut Instances,
+    world: &'a World,
+    coloring: Coloring,
+    dim: f32,
+    /// A body's shapes are mostly neighbours: its colour is worked out once per run.
+    last: Option<(BodyId, [f32; 4])>,
+}
+
+impl<'a> Painter<'a> {
+    fn new(instances: &'a mut Instances, world: &'a World, coloring: Coloring, dim: f32) -> Self {
+        Self {
+            instances,
+            world,
+            coloring,
+            dim,
+            last: None,
+        }
+    }
+
+    fn fill(&mut self, shape: &ShapeDraw) -> [f32; 4] {
+        let color = match self.last {
+            Some((body, color)) if body == shape.body => color,
+            _ => {
+                let rgb = Instances::body_color(self.world, shape.body, self.coloring);
+                let color = with_dim(rgb, self.dim);
+                self.last = Some((shape.body, color));
+                color
+            }
+        };
+        // A sensor pushes nothing: drawn see-through, over what it detects.
+        if shape.sensor {
+            [color[0], color[1], color[2], color[3] * 0.3]
+        } else {
+            color
+        }
+    }
+}
+
+impl DebugDraw for Painter<'_> {
+    fn draw_segment(&mut self, p1: Vec2, p2: Vec2, color: [f32; 4]) {
+        self.instances.line(p1, p2, color);
+    }
+
+    fn draw_polygon(
+        &mut self,
+        transform: Transform,
+        vertices: &[Vec2],
+        radius: f32,
+        _color: [f32; 4],
+        shape: &ShapeDraw,
+    ) {
+        let color = self.fill(shape);
+        let rotation = [transform.q.c, transform.q.s];
+        self.instances.polygons.push(polygon_instance(
+            transform.p.to_array(),
+            rotation,
+            color,
+            vertices,
+            radius,
+        ));
+    }
+
+    fn draw_circle(
+        &mut self,
+        transform: Transform,
+        radius: f32,
+        _color: [f32; 4],
+        shape: &ShapeDraw,
+    ) {
+        let color = self.fill(shape);
+        self.instances.circles.push(CircleInstance {
+            center: transform.p.to_array(),
+            rotation: [transform.q.c, transform.q.s],
+            color,
+            radius,
+        });
+    }
+
+    fn draw_capsule(
+        &mut self,
+        transform: Transform,
+        center1: Vec2,
+        center2: Vec2,
+        radius: f32,
+        _color: [f32; 4],
+        shape: &ShapeDraw,
+    ) {
+        let color = self.fill(shape);
+        let rotation = [transform.q.c, transform.q.s];
+        self.instances.polygons.push(polygon_instance(
+            transform.p.to_array(),
+            rotation,
+            color,
+            &[center1, center2],
+            radius,
+        ));
+    }
+
+    fn draw_segment_shape(&mut self, p1: Vec2, p2: Vec2, _color: [f32; 4], shape: &ShapeDraw) {
+        let color = self.fill(shape);
+        self.instances.line(p1, p2, color);
+    }
+
+    fn draw_point(&mut self, p: Vec2, size: f32, color: [f32; 4]) {
+        self.instances.marker(p, 0.5 * size, color);
+    }
+}
+
 impl Instances {
     /// Empties the lists.
     pub fn clear(&mut self) {
@@ -320,63 +425,14 @@ impl Instances {
     }
 
     /// One instance per shape of every live body, at the shape's own pose, in shape order
-    /// (the order [`World::body_at`] picks from, so the body on top is the one grabbed).
-    /// `dim` darkens everything (0: no change).
+    /// (the order [`World::body_at`] picks from, so the body on top is the one grabbed),
+    /// drawn through the library's [`World::draw`]. `dim` darkens everything (0: no change).
     pub fn add_bodies(&mut self, world: &World, coloring: Coloring, dim: f32) {
-        // A body's shapes are mostly neighbours: its colour is worked out once per run.
-        let mut last: Option<(BodyId, [f32; 4])> = None;
-        for view in world.shapes() {
-            let color = match last {
-                Some((body, color)) if body == view.body => color,
-                _ => {
-                    let color = with_dim(Self::body_color(world, view.body, coloring), dim);
-                    last = Some((view.body, color));
-                    color
-                }
-            };
-            // A sensor pushes nothing: drawn see-through, over what it detects.
-            let color = if view.sensor {
-                [color[0], color[1], color[2], color[3] * 0.3]
-            } else {
-                color
-            };
-            let center = view.transform.p.to_array();
-            let rotation = [view.transform.q.c, view.transform.q.s];
-            match view.shape {
-                Shape::Circle(c) => self.circles.push(CircleInstance {
-                    center,
-                    rotation,
-                    color,
-                    radius: c.radius,
-                }),
-                Shape::Polygon(p) => {
-                    self.polygons.push(polygon_instance(
-                        center,
-                        rotation,
-                        color,
-                        p.points(),
-                        p.radius,
-                    ));
-                }
-                Shape::Capsule(c) => {
-                    self.polygons.push(polygon_instance(
-                        center,
-                        rotation,
-                        color,
-                        &[c.center1, c.center2],
-                        c.radius,
-                    ));
-                }
-                Shape::Segment(seg) => {
-                    let (a, b) = (seg.point1, seg.point2);
-                    self.line(view.transform.apply(a), view.transform.apply(b), color);
-                }
-                Shape::ChainSegment(chain) => {
-                    let (a, b) = (chain.segment.point1, chain.segment.point2);
-                    self.line(view.transform.apply(a), view.transform.apply(b), color);
-                }
-            }
-        }
+        let options = DrawOptions {
+            shapes: true,
+            ..DrawOptions::nothing()
+        };
+        world.draw(&mut Painter::new(self, world, coloring, dim), &options);
     }
 
     /// A white cross on each bullet's centre, so that the bodies swept against moving ones
@@ -454,157 +510,37 @@ impl Instances {
         }
     }
 
-    /// The debug overlays that `debug` turns on. Marker sizes are in pixels, so they read the
-    /// same at every zoom.
-    pub fn add_debug(&mut self, world: &World, debug: &DebugDraw, camera: &Camera) {
-        let px = 1.0 / camera.pixels_per_metre;
-        if debug.aabbs {
-            for view in world.shapes() {
-                let b = view.fat_aabb;
-                let kind = world.body(view.body).map_or(BodyKind::Static, |b| b.kind);
-                let c = match kind {
-                    BodyKind::Static => [0.5, 0.7, 0.5, 0.6],
-                    BodyKind::Kinematic => [0.7, 0.6, 1.0, 0.6],
-                    BodyKind::Dynamic => [0.9, 0.4, 0.9, 0.6],
-                };
-                self.rect(b.min, b.max, c);
-            }
-        }
-        if debug.tree {
-            for node in world.broad_phase().nodes() {
-                if !node.is_leaf() {
-                    self.rect(node.aabb.min, node.aabb.max, [0.3, 0.8, 1.0, 0.35]);
-                }
-            }
-        }
-        if debug.contacts || debug.normals {
-            for contact in world.contacts() {
-                let m = contact.manifold;
-                for (point, &at) in m.points().iter().zip(contact.world_points()) {
-                    if debug.contacts {
-                        let c = if point.separation <= 0.0 {
-                            [1.0, 0.25, 0.2, 1.0]
-                        } else {
-                            [1.0, 0.85, 0.2, 1.0]
-                        };
-                        self.marker(at, 2.5 * px, c);
-                    }
-                    if debug.normals {
-                        self.line(at, at + m.normal * 18.0 * px, [0.95, 0.95, 0.3, 0.9]);
-                    }
-                }
-            }
-        }
-        if debug.normals {
-            // Each chain segment's pushing side: a tick from its middle towards its right.
-            for view in world.shapes() {
-                if let Shape::ChainSegment(chain) = view.shape {
-                    let a = view.transform.apply(chain.segment.point1);
-                    let b = view.transform.apply(chain.segment.point2);
-                    let side = Vec2::new(b.y - a.y, a.x - b.x).normalize_or_zero();
-                    let mid = (a + b) * 0.5;
-                    self.line(mid, mid + side * 12.0 * px, [0.4, 0.9, 1.0, 0.9]);
-                }
-            }
-        }
-        if debug.graph_colors {
-            let colors = world.contact_colors();
-            if !colors.is_empty() {
-                let contacts: Vec<_> = world.contacts().collect();
-                for (index, color) in colors {
-                    let Some(contact) = contacts.get(index) else {
-                        continue;
-                    };
-                    let c = graph_color(color);
-                    for &at in contact.world_points() {
-                        self.marker(at, 3.5 * px, c);
-                        self.marker(at, 2.0 * px, c);
-                    }
-                }
-            }
-        }
-        if debug.center_of_mass {
-            let len = 10.0 * px;
-            for (_, b) in world.bodies() {
-                if b.kind == BodyKind::Static {
-                    continue;
-                }
-                let x = b.rotation.apply(Vec2::X) * len;
-                let y = b.rotation.apply(Vec2::Y) * len;
-                self.line(b.position, b.position + x, [1.0, 0.3, 0.3, 1.0]);
-                self.line(b.position, b.position + y, [0.3, 1.0, 0.3, 1.0]);
-            }
-        }
+    /// The debug overlays that `debug` turns on, drawn through the library's
+    /// [`World::draw`]. Marker sizes are in pixels, so they read the same at every zoom.
+    pub fn add_debug(&mut self, world: &World, debug: &DebugLayers, camera: &Camera) {
+        let options = DrawOptions {
+            aabbs: debug.aabbs,
+            tree: debug.tree,
+            mass: debug.center_of_mass,
+            contacts: debug.contacts,
+            contact_normals: debug.normals,
+            chain_normals: debug.normals,
+            graph_colors: debug.graph_colors,
+            pixel: 1.0 / camera.pixels_per_metre,
+            ..DrawOptions::nothing()
+        };
+        world.draw(&mut Painter::new(self, world, Coloring::Id, 0.0), &options);
     }
 
-    /// Every joint but the mouse's (drawn by [`Instances::add_drag`]), as Box2D draws them:
-    /// body A's centre to its anchor, anchor to anchor, body B's anchor to its centre, with a
-    /// marker at each anchor; a distance joint is the line between its anchors; a slider's
-    /// axis and limit, a hinge's limit as spokes at its bounds. With
-    /// `forces`, each joint's reaction force on B as a line from B's anchor (a pixel per
-    /// newton, at most 100 px).
+    /// Every joint, as the library's [`World::draw`] draws them (Box2D's way: body A's
+    /// centre to its anchor, anchor to anchor, body B's anchor to its centre; a distance
+    /// joint its anchors only; a slider's axis and limits, a hinge's limits as spokes; the
+    /// mouse joint its target). With `forces`, each joint's reaction force on B as a line
+    /// from B's anchor (a pixel per newton, at most 100 px).
     pub fn add_joints(&mut self, world: &World, forces: bool, camera: &Camera) {
-        use tumble_physics::JointKind;
-        let px = 1.0 / camera.pixels_per_metre;
-        let color = [0.55, 0.85, 0.85, 0.9];
-        for id in world.joint_ids() {
-            let (Ok(joint), Ok([pa, pb]), Ok(bodies)) = (
-                world.joint(id),
-                world.joint_anchors(id),
-                world.joint_bodies(id),
-            ) else {
-                continue;
-            };
-            let (Ok(body_a), Ok(body_b)) = (world.body(bodies[0]), world.body(bodies[1])) else {
-                continue;
-            };
-            let (ca, cb) = (body_a.position, body_b.position);
-            match joint.kind {
-                JointKind::Mouse(_) | JointKind::Filter => continue,
-                JointKind::Distance(_) => self.line(pa, pb, color),
-                _ => {
-                    self.line(ca, pa, color);
-                    self.line(pa, pb, color);
-                    self.line(cb, pb, color);
-                }
-            }
-            self.marker(pa, 2.5 * px, color);
-            self.marker(pb, 2.5 * px, color);
-            // A slider's axis (fixed in A) and its limit's ends; a hinge's limit as two
-            // spokes from the hinge at the bounds, counted from frame A.
-            let frame_a = body_a.rotation.then_from(joint.local_a.q);
-            let limit_color = [1.0, 0.8, 0.3, 0.9];
-            match &joint.kind {
-                JointKind::Prismatic(tumble_physics::joint::Prismatic { limit, .. })
-                | JointKind::Wheel(tumble_physics::joint::Wheel { limit, .. }) => {
-                    let axis = frame_a.apply(Vec2::X);
-                    let reach = 40.0 * px;
-                    self.line(pa - axis * reach, pa + axis * reach, [0.5, 0.6, 0.9, 0.8]);
-                    if let Some([lower, upper]) = limit {
-                        let across = Vec2::new(-axis.y, axis.x) * 4.0 * px;
-                        for end in [pa + axis * *lower, pa + axis * *upper] {
-                            self.line(end - across, end + across, limit_color);
-                        }
-                    }
-                }
-                JointKind::Revolute(r) => {
-                    if let Some([lower, upper]) = r.limit {
-                        for angle in [lower, upper] {
-                            let spoke = frame_a.then_from(tumble_physics::Rot::from_angle(angle));
-                            self.line(pb, pb + spoke.apply(Vec2::X) * 20.0 * px, limit_color);
-                        }
-                    }
-                }
-                _ => {}
-            }
-            if forces && let Ok((force, _)) = world.joint_reaction(id) {
-                let len = force.length();
-                if len > 0.0 {
-                    let shown = len.min(100.0) * px;
-                    self.line(pb, pb + force / len * shown, [1.0, 0.6, 0.2, 1.0]);
-                }
-            }
-        }
+        let options = DrawOptions {
+            joints: true,
+            joint_extras: true,
+            joint_forces: forces,
+            pixel: 1.0 / camera.pixels_per_metre,
+            ..DrawOptions::nothing()
+        };
+        world.draw(&mut Painter::new(self, world, Coloring::Id, 0.0), &options);
     }
 
     /// The ray tool's ray from `from` to `to`, each shape it passes marked where it enters,
@@ -641,6 +577,7 @@ impl Instances {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use tumble_physics::Shape;
 
     #[test]
     fn layouts_are_packed_as_the_shaders_read_them() {
@@ -794,6 +731,60 @@ mod tests {
         assert_eq!(inst.lines.len(), 8 * (n - 1) + 4 * moving);
     }
 
+    /// Lines only, as an application that writes nothing but `draw_segment` gets them.
+    struct LineCount(usize);
+
+    impl DebugDraw for LineCount {
+        fn draw_segment(&mut self, _: Vec2, _: Vec2, _: [f32; 4]) {
+            self.0 += 1;
+        }
+    }
+
+    #[test]
+    fn the_debug_layer_and_joints_are_the_library_s_drawing() {
+        // Ragdolls: hinges with limits and contacts, stepped until things touch.
+        let scene = tumble_scene::builtin::build("ragdoll").unwrap();
+        let mut world = crate::sim::build_world(&scene).unwrap();
+        for _ in 0..120 {
+            world.step(scene.dt, scene.substeps);
+        }
+        let joints = world.joint_ids().count();
+        assert!(
+            joints > 0 && world.contact_count() > 0,
+            "{joints} joints, {} contacts",
+            world.contact_count()
+        );
+        let mut debug = crate::settings::Settings::default().debug;
+        (debug.aabbs, debug.tree, debug.contacts, debug.normals) = (true, true, true, true);
+        (debug.graph_colors, debug.center_of_mass) = (true, true);
+        let camera = Camera::new(Vec2::ZERO, 20.0, Vec2::new(800.0, 600.0));
+        let mut inst = Instances::default();
+        inst.add_debug(&world, &debug, &camera);
+        inst.add_joints(&world, true, &camera);
+        // Every line the library draws is one line of the viewer (two vertices), points
+        // included (a square of four), and nothing else is added.
+        let mut lines = LineCount(0);
+        let px = 1.0 / camera.pixels_per_metre;
+        let options = tumble_physics::DrawOptions {
+            aabbs: true,
+            tree: true,
+            mass: true,
+            contacts: true,
+            contact_normals: true,
+            chain_normals: true,
+            graph_colors: true,
+            joints: true,
+            joint_extras: true,
+            joint_forces: true,
+            shapes: false,
+            bounds: None,
+            pixel: px,
+        };
+        world.draw(&mut lines, &options);
+        assert!(lines.0 > 0);
+        assert_eq!(inst.lines.len(), 2 * lines.0);
+    }
+
     fn sleep_scene(awake: bool) -> World {
         let mut scene = tumble_physics::SceneDef::new("sleepy");
         scene.sleep = true;
@@ -859,10 +850,10 @@ mod tests {
         assert_eq!(inst.circles[0].color, with_dim(island_color(a), 0.0));
         assert_eq!(inst.circles[1].color, with_dim(island_color(b), 0.0));
         assert_ne!(inst.circles[0].color, inst.circles[1].color);
-        let debug = DebugDraw {
+        let debug = DebugLayers {
             islands: true,
             color_by_speed: true,
-            ..DebugDraw::default()
+            ..DebugLayers::default()
         };
         assert_eq!(Coloring::of(&debug), Coloring::Island);
     }

@@ -13,7 +13,7 @@ pub use instances::{Coloring, Instances, hsv};
 use pipeline::Pipelines;
 
 use crate::camera::Camera;
-use crate::settings::DebugDraw;
+use crate::settings::DebugLayers;
 use crate::sim::Sim;
 
 /// What the renderer draws for a state: a world seen through a camera.
@@ -171,7 +171,7 @@ impl SceneRenderer {
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         view: Option<View<'_>>,
-        debug: &DebugDraw,
+        debug: &DebugLayers,
     ) {
         self.instances.clear();
         let mut camera = Camera::new(glam::Vec2::ZERO, 1.0, glam::Vec2::ONE);

@@ -15,6 +15,7 @@
 mod bodies;
 mod body_properties;
 mod continuous;
+pub mod draw;
 mod events;
 mod explode;
 mod forces;
@@ -47,6 +48,7 @@ use crate::shape::{Aabb, Shape};
 use crate::solver::{ContactInput, NOT_DYNAMIC, Solver, SolverBody, SolverContact};
 
 use crate::threads::{THREAD_SOURCE, default_thread_count, start_crew};
+pub use draw::{DebugDraw, DrawOptions, ShapeDraw};
 pub use events::{BodyMove, Event, EventCursor, ShapeRef};
 pub use explode::ExplosionDef;
 pub use hooks::{CustomFilter, PreSolve};
@@ -394,6 +396,13 @@ pub struct World {
 /// world.step(scene.dt, scene.substeps);
 /// assert_eq!(world.body_count(), 1);
 /// ```
+impl Default for World {
+    /// An empty world with [`StepSettings::default`], on all cores.
+    fn default() -> World {
+        World::new(StepSettings::default())
+    }
+}
+
 impl World {
     /// An empty world with the given settings, on all cores.
     pub fn new(settings: StepSettings) -> World {
