@@ -506,6 +506,17 @@ impl Shape {
         }
     }
 
+    /// How round the shape is: a circle's or capsule's radius, a polygon's rounding, 0 for a
+    /// segment (Box2D's `b2GetShapeRadius`, the lever of rolling resistance).
+    pub fn radius(&self) -> f32 {
+        match self {
+            Shape::Circle(c) => c.radius,
+            Shape::Capsule(c) => c.radius,
+            Shape::Polygon(p) => p.radius,
+            Shape::Segment(_) | Shape::ChainSegment(_) => 0.0,
+        }
+    }
+
     /// Whether two shapes of these kinds can touch: segments and chain segments never meet
     /// each other (neither has an inside; Box2D registers no routine for them).
     pub fn pair_collides(a: &Shape, b: &Shape) -> bool {

@@ -89,6 +89,13 @@ pub struct PartDef {
     /// that speed (Box2D v3.1's `tangentSpeed`).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub tangent_speed: f32,
+    /// How strongly the part resists rolling (≥ 0, usually 0 to 1; Box2D v3.1's
+    /// `rollingResistance`): a contact of it brakes the two bodies' relative spin with a
+    /// torque of at most this times the larger shape radius times the normal force, so a
+    /// ball rolling on it slows and stops. Only round shapes (circles, capsules, rounded
+    /// polygons) have a radius; 0 costs nothing.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub rolling_resistance: f32,
 }
 
 fn is_zero(x: &f32) -> bool {
@@ -108,6 +115,7 @@ impl PartDef {
             filter: None,
             sensor: false,
             tangent_speed: 0.0,
+            rolling_resistance: 0.0,
         }
     }
 
@@ -117,6 +125,12 @@ impl PartDef {
         self.tangent_speed = speed;
         self
     }
+    /// The part resisting rolling by `coefficient` (see [`PartDef::rolling_resistance`]).
+    pub fn rolling_resistance(mut self, coefficient: f32) -> PartDef {
+        self.rolling_resistance = coefficient;
+        self
+    }
+
     /// Builder: offset and angle in the body's frame.
     pub fn at(mut self, x: f32, y: f32, angle: f32) -> PartDef {
         self.offset = [x, y];
@@ -175,6 +189,7 @@ impl PartDef {
         for (name, v) in [
             ("density", self.density),
             ("friction", self.friction),
+            ("rolling_resistance", Some(self.rolling_resistance)),
             ("restitution", self.restitution),
         ] {
             if let Some(v) = v
@@ -208,6 +223,8 @@ pub struct ResolvedPart<'a> {
     pub sensor: bool,
     /// Surface speed along itself (m/s).
     pub tangent_speed: f32,
+    /// Rolling resistance coefficient.
+    pub rolling_resistance: f32,
     /// Whether the part comes from `shape` (a body of one shape: a polygon is recentred and
     /// the body's position is its centre of mass) rather than from `shapes`.
     pub single: bool,
@@ -344,6 +361,7 @@ impl BodyDef {
                 filter: self.filter,
                 sensor: false,
                 tangent_speed: 0.0,
+                rolling_resistance: 0.0,
                 single: true,
             }];
         }
@@ -359,6 +377,7 @@ impl BodyDef {
                 filter: p.filter.unwrap_or(self.filter),
                 sensor: p.sensor,
                 tangent_speed: p.tangent_speed,
+                rolling_resistance: p.rolling_resistance,
                 single: false,
             })
             .collect()

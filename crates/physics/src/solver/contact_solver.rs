@@ -64,6 +64,14 @@ pub struct ContactConstraint {
     /// The surfaces' speed along the tangent (m/s): friction drives the relative tangent
     /// velocity to it rather than to 0 (Box2D's `tangentSpeed`, a conveyor belt).
     pub tangent_speed: f32,
+    /// The most rolling torque per newton of normal force (m; Box2D v3.1's
+    /// `rollingResistance`): the relative spin is braked by an angular impulse of at most
+    /// this times the contact's normal impulse. 0: not solved.
+    pub rolling_resistance: f32,
+    /// Effective mass of the relative spin ([`super::rolling_mass`]).
+    pub rolling_mass: f32,
+    /// Accumulated rolling impulse (N·m·s).
+    pub rolling_impulse: f32,
     /// The contact's spring.
     pub softness: Softness,
     /// Points used.
@@ -218,6 +226,10 @@ pub fn warm_start(constraints: &[ContactConstraint], states: &BodyStates<'_>) {
             let impulse = n * p.normal_impulse + t * p.tangent_impulse;
             apply(m, &mut a, &mut b, p.anchor_a, p.anchor_b, impulse);
         }
+        if c.rolling_resistance > 0.0 {
+            a.w -= m.ia * c.rolling_impulse;
+            b.w += m.ib * c.rolling_impulse;
+        }
         write(states, c, &a, &b);
     }
 }
@@ -260,6 +272,19 @@ pub fn solve(
                 -p.normal_mass * (mass_scale * vn + bias) - impulse_scale * p.normal_impulse;
             let applied = accumulate_normal(p, impulse);
             apply(m, &mut a, &mut b, ra, rb, n * applied);
+        }
+        // Rolling resistance, in the relax pass before friction as Box2D v3.1's wide solver
+        // has it (`contact_solver.c`): the relative spin braked, the accumulated angular
+        // impulse within the resistance times the points' normal impulses summed.
+        if !use_bias && c.rolling_resistance > 0.0 {
+            let total: f32 = c.points[..c.count].iter().map(|p| p.normal_impulse).sum();
+            let delta = c.rolling_mass * (a.w - b.w);
+            let max = c.rolling_resistance * total;
+            let old = c.rolling_impulse;
+            c.rolling_impulse = crate::math::clamp_within(old + delta, max);
+            let applied = c.rolling_impulse - old;
+            a.w -= m.ia * applied;
+            b.w += m.ib * applied;
         }
         // Friction: skipped outright for frictionless pairs (model only what a scene needs).
         if !use_bias && c.friction > 0.0 {

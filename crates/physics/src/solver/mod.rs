@@ -60,6 +60,8 @@ pub struct ContactInput<'a> {
     pub restitution: f32,
     /// The surfaces' speed along the tangent (m/s; a conveyor belt), the shapes' summed.
     pub tangent_speed: f32,
+    /// The most rolling torque per newton of normal force (m; 0: none).
+    pub rolling_resistance: f32,
     /// This step's manifold (with warm-start impulses).
     pub manifold: &'a Manifold,
     /// Both bodies' masses, as the contact keeps them (copied when it is made, and refreshed
@@ -624,6 +626,7 @@ impl Solver {
                         tangent_impulse: p.tangent_impulse,
                         total_normal_impulse: p.total_normal_impulse,
                         relative_velocity: p.relative_velocity,
+                        rolling_impulse: c.rolling_impulse,
                     },
                 );
             }
@@ -919,6 +922,13 @@ fn build_constraint(
         friction: c.friction,
         restitution: c.restitution,
         tangent_speed: c.tangent_speed,
+        rolling_resistance: c.rolling_resistance,
+        rolling_mass: rolling_mass(ba.inv_inertia, bb.inv_inertia),
+        rolling_impulse: if params.warm_starting && c.rolling_resistance > 0.0 {
+            m.rolling_impulse
+        } else {
+            0.0
+        },
         softness: params.softness(&ba, &bb),
         count: m.count,
         points: [ConstraintPoint::default(); 2],
@@ -939,6 +949,15 @@ fn build_constraint(
         con.points[i] = p;
     }
     con
+}
+
+/// The effective mass of the relative spin that rolling resistance brakes:
+/// `1 / (1/Ia + 1/Ib)` from the inverse inertias, 0 when neither turns (Box2D's
+/// `rollingMass`). One definition for the scalar and the 8-lane constraints.
+#[inline(always)]
+pub fn rolling_mass(inv_i_a: f32, inv_i_b: f32) -> f32 {
+    let k = inv_i_a + inv_i_b;
+    if k > 0.0 { 1.0 / k } else { 0.0 }
 }
 
 /// The acceleration a body's applied force and torque give it through one step (the
@@ -984,6 +1003,9 @@ pub struct PointResult {
     pub total_normal_impulse: f32,
     /// Normal velocity before the solve.
     pub relative_velocity: f32,
+    /// The contact's accumulated rolling-resistance impulse (the same for each of its
+    /// points).
+    pub rolling_impulse: f32,
 }
 
 /// The knobs of one run of substeps.

@@ -121,7 +121,8 @@ impl<'a> LaneWriter<'a> {
             | (u8::from(body_b.dynamic) << 1)
             | (u8::from(c.friction > 0.0) << 2)
             | (u8::from(c.restitution > 0.0) << 3)
-            | (u8::from(c.tangent_speed != 0.0) << 4);
+            | (u8::from(c.tangent_speed != 0.0) << 4)
+            | (u8::from(c.rolling_resistance > 0.0) << 5);
         // SAFETY: `wide` is in bounds (asserted) and `l < LANES`; each write goes through a
         // raw pointer to this lane's own element of a lane array, which no other call
         // touches (contract of `shared`), and no reference to the shared constraint is made.
@@ -149,6 +150,23 @@ impl<'a> LaneWriter<'a> {
             put!((*w).friction, f32, c.friction);
             put!((*w).restitution, f32, c.restitution);
             put!((*w).tangent_speed, f32, c.tangent_speed);
+            // Rolling resistance only where the lane has it: `finish` zeroes the other lanes
+            // of a constraint that needs them, and one that does not never reads them.
+            if c.rolling_resistance > 0.0 {
+                let [body_a, body_b] = &c.masses;
+                put!((*w).rolling_resistance, f32, c.rolling_resistance);
+                put!(
+                    (*w).rolling_mass,
+                    f32,
+                    super::rolling_mass(body_a.inv_inertia, body_b.inv_inertia)
+                );
+                let impulse = if warm_starting {
+                    m.rolling_impulse
+                } else {
+                    0.0
+                };
+                put!((*w).rolling_impulse, f32, impulse);
+            }
             put!((*w).bias_rate, f32, x.softness.bias_rate);
             put!((*w).mass_scale, f32, x.softness.mass_scale);
             put!((*w).impulse_scale, f32, x.softness.impulse_scale);
@@ -235,7 +253,7 @@ pub struct WideConstraint {
     /// Manifold points per lane.
     count: [u8; LANES],
     /// Per lane: bit 0 body A dynamic, 1 body B dynamic, 2 friction, 3 restitution, 4
-    /// tangent speed (what
+    /// tangent speed, 5 rolling resistance (what
     /// `finish` folds into the masks below; lanes are written one by one, possibly by
     /// different workers, so nothing per-constraint is written while lanes are).
     flags: [u8; LANES],
@@ -250,6 +268,8 @@ pub struct WideConstraint {
     any_restitution: bool,
     /// A lane's surfaces move along the tangent (a conveyor): friction reads `tangent_speed`.
     any_tangent_speed: bool,
+    /// A lane resists rolling: the three `rolling_` arrays are valid in every lane.
+    any_rolling: bool,
     inv_mass_a: f32x8,
     inv_i_a: f32x8,
     inv_mass_b: f32x8,
@@ -263,6 +283,9 @@ pub struct WideConstraint {
     mass_scale: f32x8,
     impulse_scale: f32x8,
     points: [WidePoint; 2],
+    rolling_resistance: f32x8,
+    rolling_mass: f32x8,
+    rolling_impulse: f32x8,
 }
 
 impl WidePoint {
@@ -297,6 +320,7 @@ impl WideConstraint {
         any_friction: false,
         any_restitution: false,
         any_tangent_speed: false,
+        any_rolling: false,
         inv_mass_a: f32x8::ZERO,
         inv_i_a: f32x8::ZERO,
         inv_mass_b: f32x8::ZERO,
@@ -310,6 +334,9 @@ impl WideConstraint {
         mass_scale: f32x8::ZERO,
         impulse_scale: f32x8::ZERO,
         points: [WidePoint::ZERO; 2],
+        rolling_resistance: f32x8::ZERO,
+        rolling_mass: f32x8::ZERO,
+        rolling_impulse: f32x8::ZERO,
     };
 
     /// Completes a constraint whose first `lanes` lanes were written by [`LaneWriter`]:
@@ -331,6 +358,21 @@ impl WideConstraint {
         self.any_friction = any & 4 != 0;
         self.any_restitution = any & 8 != 0;
         self.any_tangent_speed = any & 16 != 0;
+        self.any_rolling = any & 32 != 0;
+        if self.any_rolling {
+            // Lanes without rolling resistance were not written: zeros, so they apply none.
+            for l in 0..LANES {
+                if l >= lanes || self.flags[l] & 32 == 0 {
+                    for x in [
+                        &mut self.rolling_resistance,
+                        &mut self.rolling_mass,
+                        &mut self.rolling_impulse,
+                    ] {
+                        x.as_mut_array()[l] = 0.0;
+                    }
+                }
+            }
+        }
         for l in lanes..LANES {
             self.contact[l] = 0;
             self.count[l] = 0;
@@ -404,6 +446,11 @@ impl WideConstraint {
                     tangent_impulse: p.tangent_impulse.as_array()[lane],
                     total_normal_impulse: p.total_normal_impulse.as_array()[lane],
                     relative_velocity: p.relative_velocity.as_array()[lane],
+                    rolling_impulse: if self.flags[lane] & 32 != 0 {
+                        self.rolling_impulse.as_array()[lane]
+                    } else {
+                        0.0
+                    },
                 },
             );
         }
@@ -594,6 +641,11 @@ fn warm_start_with<V: Lanes>(constraints: &[WideConstraint], states: &BodyStates
             let py = normal * ny - tangent * nx;
             apply(m, &mut a, &mut b, &p.r.load(), px, py);
         }
+        if c.any_rolling {
+            let rolling = V::load(c.rolling_impulse);
+            a.w -= m.ia * rolling;
+            b.w += m.ib * rolling;
+        }
         scatter(states, &c.body_a, c.dynamic_a, &a);
         scatter(states, &c.body_b, c.dynamic_b, &b);
     }
@@ -679,6 +731,20 @@ fn solve_with<V: Lanes>(
                 - impulse_scale * V::load(p.normal_impulse);
             let applied = accumulate_normal(p, impulse, None);
             apply(m, &mut a, &mut b, &r, applied * nx, applied * ny);
+        }
+        // Rolling resistance (as the scalar `contact_solver::solve`): relax pass, before
+        // friction.
+        if !use_bias && c.any_rolling {
+            let [p0, p1] = &c.points;
+            let total = V::load(p0.normal_impulse) + V::load(p1.normal_impulse);
+            let delta = V::load(c.rolling_mass) * (a.w - b.w);
+            let max = V::load(c.rolling_resistance) * total;
+            let old = V::load(c.rolling_impulse);
+            let new_impulse = (old + delta).fast_min(max).fast_max(-max);
+            let applied = new_impulse - old;
+            c.rolling_impulse = new_impulse.store();
+            a.w -= m.ia * applied;
+            b.w += m.ib * applied;
         }
         if !use_bias && c.any_friction {
             let (tx, ty) = (ny, -nx);

@@ -163,6 +163,7 @@ impl World {
             part: self.bodies.records[body as usize].parts,
             user_data: 0,
             tangent_speed: part.tangent_speed,
+            rolling_resistance: part.rolling_resistance,
         };
         // Appended: a body's shapes are listed in part order.
         match self.shapes_of_body(body as usize).last() {

@@ -224,6 +224,9 @@ struct ShapeRecord {
     /// How fast its surface moves along itself (m/s; a conveyor belt; 0 for most shapes).
     #[serde(default)]
     tangent_speed: f32,
+    /// Its rolling resistance coefficient (0 for most shapes).
+    #[serde(default)]
+    rolling_resistance: f32,
 }
 
 impl ShapeRecord {
@@ -238,6 +241,18 @@ impl ShapeRecord {
     #[inline]
     fn mixed_tangent_speed(a: &ShapeRecord, b: &ShapeRecord) -> f32 {
         a.tangent_speed + b.tangent_speed
+    }
+
+    /// A contact's rolling resistance from its shapes' (`a` and `b` with their geometry):
+    /// the larger coefficient times the larger radius, a lever in metres (Box2D v3.1's
+    /// `b2UpdateContact`); 0 when neither has any.
+    #[inline]
+    fn mixed_rolling_resistance(a: &ShapeRecord, sa: &Shape, b: &ShapeRecord, sb: &Shape) -> f32 {
+        if a.rolling_resistance > 0.0 || b.rolling_resistance > 0.0 {
+            a.rolling_resistance.max(b.rolling_resistance) * sa.radius().max(sb.radius())
+        } else {
+            0.0
+        }
     }
 
     /// A contact's restitution from its shapes': the larger (Box2D's default rule).
@@ -268,6 +283,10 @@ struct Contact {
     /// The shapes' tangent speeds summed (Box2D's rule; absent from older snapshots: 0).
     #[serde(default)]
     tangent_speed: f32,
+    /// The most rolling torque per newton of normal force (m; see
+    /// `ShapeRecord::mixed_rolling_resistance`; absent from older snapshots: 0).
+    #[serde(default)]
+    rolling_resistance: f32,
     manifold: Manifold,
     /// Poses when the manifold was last computed, for contact recycling.
     cache: Option<ContactCache>,
@@ -333,6 +352,7 @@ impl SolverContact for Contact {
             friction: self.friction,
             restitution: self.restitution,
             tangent_speed: self.tangent_speed,
+            rolling_resistance: self.rolling_resistance,
             manifold: &self.manifold,
             masses: self.masses,
         }

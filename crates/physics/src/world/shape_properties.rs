@@ -136,6 +136,29 @@ impl World {
             .map(|s| self.shapes.records[s].tangent_speed)
     }
 
+    /// Sets how strongly a shape resists rolling (finite, ≥ 0; Box2D v3.1's
+    /// `b2Shape_SetRollingResistance`): a contact brakes its two bodies' relative spin with
+    /// a torque of at most the larger coefficient of its shapes times the larger shape
+    /// radius times the normal force. Its contacts take it at once; 0 (the default) costs
+    /// nothing in the step.
+    pub fn set_rolling_resistance(
+        &mut self,
+        id: ShapeId,
+        coefficient: f32,
+    ) -> Result<(), WorldError> {
+        let s = self.shape_slot(id)?;
+        non_negative(id, "rolling resistance", coefficient)?;
+        self.shapes.records[s].rolling_resistance = coefficient;
+        self.remix_contacts(s as u32);
+        Ok(())
+    }
+
+    /// A shape's rolling resistance coefficient.
+    pub fn rolling_resistance(&self, id: ShapeId) -> Result<f32, WorldError> {
+        self.shape_slot(id)
+            .map(|s| self.shapes.records[s].rolling_resistance)
+    }
+
     /// Tags a shape with a number of the caller's choosing (Box2D's `b2Shape_SetUserData`);
     /// a new shape carries 0, snapshots keep it, the step never reads it.
     pub fn set_shape_user_data(&mut self, id: ShapeId, user_data: u64) -> Result<(), WorldError> {
@@ -207,6 +230,13 @@ impl World {
                 c.friction = ShapeRecord::mixed_friction(a, b);
                 c.restitution = ShapeRecord::mixed_restitution(a, b);
                 c.tangent_speed = ShapeRecord::mixed_tangent_speed(a, b);
+                let geometry = &self.shapes.geometry;
+                c.rolling_resistance = ShapeRecord::mixed_rolling_resistance(
+                    a,
+                    &geometry[c.shape_a as usize],
+                    b,
+                    &geometry[c.shape_b as usize],
+                );
             }
         }
     }
@@ -448,5 +478,127 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(err.contains("tangent_speed"), "{err}");
+    }
+
+    /// A static floor 300 m long and `n` balls of radius 0.5, 12 m apart (none reaches the
+    /// next in 4 s), rolling on it at 2 m/s (spin matched, so they roll without slipping),
+    /// every other one with rolling resistance `coefficient` on its shape when `mixed`, else
+    /// all of them.
+    fn rolling_balls(n: usize, coefficient: f32, mixed: bool) -> (World, Vec<BodyId>) {
+        let mut w = World::new(StepSettings::default());
+        w.create_body(
+            &BodyDef::new(ShapeDef::Box {
+                half_extents: [150.0, 0.5],
+                radius: 0.0,
+            })
+            .kind(BodyKind::Static)
+            .at(0.0, -0.5),
+        )
+        .unwrap();
+        let balls = (0..n)
+            .map(|k| {
+                let resists = !mixed || k % 2 == 0;
+                let part = PartDef::new(ShapeDef::Circle { radius: 0.5 })
+                    .rolling_resistance(if resists { coefficient } else { 0.0 });
+                w.create_body(
+                    &BodyDef::compound(vec![part])
+                        .at(-145.0 + 12.0 * k as f32, 0.5)
+                        .velocity(2.0, 0.0)
+                        .spin(-4.0),
+                )
+                .unwrap()
+            })
+            .collect();
+        (w, balls)
+    }
+
+    #[test]
+    fn a_ball_on_rolling_resistance_stops_where_the_energy_balance_says() {
+        // Rolling without slipping, the resistance's torque c·r·N = c·r·m·g brakes the
+        // energy ½(m + I/r²)v² = ¾mv² (a disc: I = ½mr²) at c·r·m·g·v/r, so v falls at
+        // (2/3)·c·g: from 2 m/s with c = 0.1, g = 10 it stops in 3 s after 3 m.
+        let (mut w, balls) = rolling_balls(1, 0.1, false);
+        let ball = balls[0];
+        let shape = w.body_shapes(ball).unwrap().next().unwrap().id;
+        assert_eq!(w.rolling_resistance(shape), Ok(0.1));
+        let x0 = w.body(ball).unwrap().position.x;
+        let mut stopped_at = None;
+        for k in 1..=300 {
+            w.step(DT, 4);
+            let v = w.body(ball).unwrap().linear_velocity.x;
+            if k == 90 {
+                // Halfway in time: half the speed (1 m/s), as a constant deceleration has it.
+                // 2% for the soft contact's give at touchdown and the discrete steps.
+                assert!((v - 1.0).abs() < 0.02, "{v} m/s at 1.5 s");
+            }
+            if stopped_at.is_none() && v.abs() < 1e-3 {
+                stopped_at = Some(k);
+            }
+        }
+        let travelled = w.body(ball).unwrap().position.x - x0;
+        // 3 m and 3 s within 2% (the same sources as above); once stopped it stays (the
+        // resistance holds it like static friction, as Box2D's clamp does).
+        assert!((travelled - 3.0).abs() < 0.06, "{travelled} m");
+        let t = stopped_at.expect("it stops") as f32 * DT;
+        assert!((t - 3.0).abs() < 0.06, "{t} s");
+        assert!(w.body(ball).unwrap().linear_velocity.length() < 1e-3);
+
+        // Without it, the ball rolls on at 2 m/s (5e-3: the contact's noise over 5 s).
+        w.set_rolling_resistance(shape, 0.0).unwrap();
+        w.set_velocity(ball, Vec2::new(2.0, 0.0), -4.0).unwrap();
+        for _ in 0..300 {
+            w.step(DT, 4);
+        }
+        let v = w.body(ball).unwrap().linear_velocity.x;
+        assert!((v - 2.0).abs() < 5e-3, "{v}");
+        assert!(w.set_rolling_resistance(shape, -0.1).is_err());
+        assert!(w.set_rolling_resistance(shape, f32::NAN).is_err());
+        assert_eq!(w.rolling_resistance(shape), Ok(0.0));
+    }
+
+    #[test]
+    fn rolling_resistance_is_alike_in_scalar_portable_simd_and_avx2_with_lanes_mixed() {
+        // 24 balls (three full 8-lane constraints), every other one resisting, so wide
+        // constraints mix lanes with and without it.
+        let run = |simd: bool, avx: bool| {
+            let (mut w, balls) = rolling_balls(24, 0.2, true);
+            w.settings_mut().simd = simd;
+            w.solver.use_avx = avx;
+            for _ in 0..240 {
+                w.step(DT, 4);
+            }
+            // Those resisting stopped (2 m/s at (2/3)·0.2·10 stops within 1.5 s); the others
+            // roll on.
+            for (k, &b) in balls.iter().enumerate() {
+                let v = w.body(b).unwrap().linear_velocity.x;
+                if k % 2 == 0 {
+                    assert!(v.abs() < 1e-3, "ball {k}: {v}");
+                } else {
+                    assert!((v - 2.0).abs() < 5e-3, "ball {k}: {v}");
+                }
+            }
+            w.state_hash()
+        };
+        let portable = run(true, false);
+        assert_eq!(run(true, true), portable);
+        assert_eq!(run(false, false), portable);
+    }
+
+    #[test]
+    fn rolling_resistance_loads_from_a_scene_file_and_a_bad_one_is_refused() {
+        let json = r#"{"name": "mat", "bodies": [{"kind": "Static", "shapes": [
+            {"shape": {"Circle": {"radius": 0.5}}, "rolling_resistance": 0.3}]}]}"#;
+        let scene: crate::SceneDef = serde_json::from_str(json).unwrap();
+        let w = World::from_scene(&scene, &crate::Limits::default()).unwrap();
+        let mat = w.shapes().next().unwrap().id;
+        assert_eq!(w.rolling_resistance(mat), Ok(0.3));
+        let bad = BodyDef::compound(vec![
+            PartDef::new(ShapeDef::Circle { radius: 1.0 }).rolling_resistance(-1.0),
+        ]);
+        let err = World::new(StepSettings::default())
+            .create_body(&bad)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("rolling_resistance"), "{err}");
     }
 }

@@ -369,6 +369,12 @@ impl World {
             friction: ShapeRecord::mixed_friction(ra, rb),
             restitution: ShapeRecord::mixed_restitution(ra, rb),
             tangent_speed: ShapeRecord::mixed_tangent_speed(ra, rb),
+            rolling_resistance: ShapeRecord::mixed_rolling_resistance(
+                ra,
+                &self.shapes.geometry[a as usize],
+                rb,
+                &self.shapes.geometry[b as usize],
+            ),
             manifold: Manifold::default(),
             cache: None,
             touched: false,
@@ -468,6 +474,7 @@ impl World {
             // moved to be relative to the body's centre, as the solver wants them.
             let (pose_a, pose_b) = (ra.pose(xa), rb.pose(xb));
             let mut m = collide(&shapes[sa], pose_a, &shapes[sb], pose_b, max_distance);
+            m.rolling_impulse = old.rolling_impulse;
             for p in &mut m.points[..m.count] {
                 if ra.offset {
                     p.anchor_a += pose_a.p - xa.p;
@@ -680,6 +687,7 @@ impl World {
                 mp.tangent_impulse = r.tangent_impulse;
                 mp.total_normal_impulse = r.total_normal_impulse;
                 mp.normal_velocity = r.relative_velocity;
+                contact.manifold.rolling_impulse = r.rolling_impulse;
             },
         );
         profile.store_impulses_ms = ms(t);
