@@ -73,6 +73,7 @@ impl World {
             bullet: def.bullet,
             user_data: 0,
             custom_mass: false,
+            disabled: false,
         };
         let rotates = !(def.kind == BodyKind::Dynamic && def.fixed_rotation);
         let state = BodyState {
@@ -164,6 +165,7 @@ impl World {
             user_data: 0,
             tangent_speed: part.tangent_speed,
             rolling_resistance: part.rolling_resistance,
+            disabled: self.bodies.records[body as usize].disabled,
         };
         // Appended: a body's shapes are listed in part order.
         match self.shapes_of_body(body as usize).last() {
@@ -571,6 +573,11 @@ impl World {
         self.bodies.sims[i].sleep_time = 0.0;
         if kind == BodyKind::Dynamic {
             self.islands.create(i as u32, true);
+        }
+        if self.bodies.records[i].disabled {
+            // It keeps out of everything until enabled, whatever its kind.
+            self.islands.remove_body(i as u32);
+            self.bodies.awake[i] = false;
         }
         self.update_mass(i as u32);
         // Contacts of this body are made afresh: pairs that may no longer touch (two

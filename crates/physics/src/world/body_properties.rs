@@ -127,6 +127,70 @@ impl World {
         Ok(())
     }
 
+    /// Takes a body out of the world (`false`) or puts it back (`true`), between steps
+    /// (Box2D's `b2Body_Disable` / `b2Body_Enable`). A disabled body touches nothing: its
+    /// contacts end (with contact end events, and what rested on it wakes), its shapes leave
+    /// the broad phase, so no pair, query, sensor, explosion or [`World::draw`] sees them,
+    /// it is not integrated or solved, and its joints are kept but not solved. It keeps its
+    /// shapes, joints, pose and velocity, and comes back where it was left (or where
+    /// [`World::set_transform`] put it meanwhile), awake, its joints joining islands again.
+    /// Impulses and forces given while it is disabled are ignored, as sleeping bodies'
+    /// are without `wake`.
+    pub fn set_enabled(&mut self, id: BodyId, enabled: bool) -> Result<(), WorldError> {
+        let i = self.slot(id)?;
+        if self.bodies.records[i].disabled != enabled {
+            return Ok(());
+        }
+        let body = i as u32;
+        if enabled {
+            self.bodies.records[i].disabled = false;
+            for s in self.shapes_of_body(i).collect::<Vec<_>>() {
+                self.shapes.set_disabled(s, false);
+            }
+            let kind = self.bodies.sims[i].kind;
+            self.bodies.awake[i] = kind != BodyKind::Static;
+            self.bodies.sims[i].sleep_time = 0.0;
+            if kind == BodyKind::Dynamic {
+                self.islands.create(body, true);
+            }
+            self.bodies.refresh_motion(body);
+            // Its joints join islands again; a sleeping island joined wakes first, as a new
+            // joint's does.
+            let joined: Vec<u32> = self.joints_of_body(body).collect();
+            for k in joined {
+                let j = &self.joints.list[k as usize];
+                let (a, b) = (j.body_a, j.body_b);
+                if j.links_islands() && self.links_islands_of(a, b) {
+                    self.wake_body(a);
+                    self.wake_body(b);
+                    self.islands.link(a, b);
+                }
+            }
+            self.refresh_contact_keys();
+            // Its shapes look for pairs at the next step.
+            self.refresh_shape_boxes(body);
+        } else {
+            self.wake_touching(&[body], |b| b == body);
+            self.remove_contacts_of(body);
+            self.islands.remove_body(body);
+            self.bodies.records[i].disabled = true;
+            for s in self.shapes_of_body(i).collect::<Vec<_>>() {
+                self.shapes.set_disabled(s, true);
+            }
+            self.bodies.awake[i] = false;
+            self.bodies.refresh_motion(body);
+        }
+        // Which joints are solved changed.
+        self.edit_joints();
+        self.debug_validate();
+        Ok(())
+    }
+
+    /// Whether a body is enabled ([`World::set_enabled`]).
+    pub fn is_enabled(&self, id: BodyId) -> Result<bool, WorldError> {
+        self.slot(id).map(|i| !self.bodies.records[i].disabled)
+    }
+
     /// Gives a dynamic body its mass, centre of mass (in its frame) and rotational inertia
     /// about that centre, in place of its shapes' (Box2D's `b2Body_SetMassData`). They hold
     /// until its shapes, their densities, its kind or its fixed rotation change, which
@@ -355,5 +419,181 @@ mod tests {
         // Only a dynamic body has mass.
         w.set_kind(b, BodyKind::Kinematic).unwrap();
         assert!(w.set_mass_data(b, given).is_err());
+    }
+
+    /// Counts lines drawn.
+    struct Lines(usize);
+
+    impl crate::DebugDraw for Lines {
+        fn draw_segment(&mut self, _: Vec2, _: Vec2, _: [f32; 4]) {
+            self.0 += 1;
+        }
+    }
+
+    #[test]
+    fn a_disabled_body_touches_nothing_is_seen_by_nothing_and_comes_back_where_it_was() {
+        let (mut w, crate_) = box_on_ground();
+        // A second box 3 m above the first: it will fall through the disabled one's place.
+        let faller = w
+            .create_body(&BodyDef::new(unit_box()).at(0.0, 3.5))
+            .unwrap();
+        for _ in 0..30 {
+            w.step(DT, 4);
+        }
+        assert_eq!(w.body_contacts(crate_).unwrap().len(), 1);
+        let before = w.body(crate_).unwrap();
+        let lines = |w: &World| {
+            let mut l = Lines(0);
+            w.draw(&mut l, &crate::DrawOptions::default());
+            l.0
+        };
+        let drawn = lines(&w);
+
+        w.set_enabled(crate_, false).unwrap();
+        w.validate().unwrap();
+        assert_eq!(w.is_enabled(crate_), Ok(false));
+        // Its touch with the ground ended at once, with the event.
+        assert!(w.body_contacts(crate_).unwrap().is_empty());
+        assert!(
+            w.events()
+                .iter()
+                .any(|e| matches!(e, crate::Event::ContactEnd { .. }))
+        );
+        // Queries, the pointer and drawing see nothing of it; impulses do not move it.
+        let filter = crate::QueryFilter::default();
+        let ray = w.cast_ray_closest(Vec2::new(-5.0, 0.5), Vec2::new(10.0, 0.0), &filter);
+        assert!(ray.is_none(), "{ray:?}");
+        assert_eq!(w.body_at(Vec2::new(0.0, 0.5)), None);
+        assert_eq!(lines(&w), drawn - 4);
+        w.apply_linear_impulse_to_center(crate_, Vec2::new(5.0, 0.0), true)
+            .unwrap();
+        w.explode(&crate::ExplosionDef {
+            // Reaches the crate's right face (0.7 m away), not the faller (1.4 m above).
+            position: Vec2::new(1.2, 0.5),
+            radius: 0.8,
+            impulse_per_length: 5.0,
+            ..crate::ExplosionDef::default()
+        })
+        .unwrap();
+        for _ in 0..120 {
+            w.step(DT, 4);
+            w.validate().unwrap();
+        }
+        // Not integrated (no gravity), not solved: the faller fell through its place to the
+        // ground, where it rests inside it.
+        let held = w.body(crate_).unwrap();
+        assert_eq!((held.position, held.angle), (before.position, before.angle));
+        let fallen = w.body(faller).unwrap().position;
+        assert!((fallen.y - 0.5).abs() < 0.02, "{fallen}");
+        assert!(w.body_contacts(crate_).unwrap().is_empty());
+
+        // Back where it was, awake, and at once it pushes the faller out of itself.
+        w.set_enabled(crate_, true).unwrap();
+        w.validate().unwrap();
+        assert!(w.is_enabled(crate_).unwrap() && w.body(crate_).unwrap().awake);
+        assert_eq!(lines(&w), drawn);
+        assert_eq!(
+            w.body_at(Vec2::new(0.3, 0.2)),
+            Some(faller),
+            "the later shape is on top"
+        );
+        for _ in 0..120 {
+            w.step(DT, 4);
+            w.validate().unwrap();
+        }
+        assert!(!w.body_contacts(crate_).unwrap().is_empty());
+        let (a, b) = (w.body(crate_).unwrap(), w.body(faller).unwrap());
+        // Pushed apart: no longer overlapping (their centres at least 1 m apart, less the
+        // 5 mm slop Box2D's soft contacts keep).
+        assert!((a.position - b.position).length() > 0.99, "{a:?} {b:?}");
+        assert_eq!(w.non_finite_bodies(), 0);
+    }
+
+    #[test]
+    fn a_disabled_body_s_joints_are_kept_unsolved_and_join_its_island_again() {
+        let mut w = World::new(StepSettings {
+            gravity: Vec2::ZERO,
+            ..StepSettings::default()
+        });
+        let a = w.create_body(&BodyDef::new(unit_box())).unwrap();
+        let b = w
+            .create_body(&BodyDef::new(unit_box()).at(2.0, 0.0))
+            .unwrap();
+        let hinge = w
+            .create_joint(&crate::JointDef::hinge([a, b], [1.0, 0.0]))
+            .unwrap();
+        w.step(DT, 4);
+        assert_eq!(w.island_of(a).unwrap(), w.island_of(b).unwrap());
+        w.set_enabled(a, false).unwrap();
+        assert_eq!(w.island_of(a), Ok(None));
+        assert_eq!(w.body_joints(a).unwrap(), [hinge]);
+        // B drifts off: the hinge does not hold it while A is out.
+        w.set_velocity(b, Vec2::new(1.0, 0.0), 0.0).unwrap();
+        for _ in 0..60 {
+            w.step(DT, 4);
+            w.validate().unwrap();
+        }
+        let gap = w.body(b).unwrap().position.x - w.body(a).unwrap().position.x;
+        assert!((gap - 3.0).abs() < 1e-3, "{gap}");
+        // Back: one island again, and the hinge pulls the anchors together (within 1 cm
+        // in 2 s, the soft joint's spring at its default stiffness).
+        w.set_velocity(b, Vec2::ZERO, 0.0).unwrap();
+        w.set_enabled(a, true).unwrap();
+        w.validate().unwrap();
+        assert_eq!(w.island_of(a).unwrap(), w.island_of(b).unwrap());
+        for _ in 0..120 {
+            w.step(DT, 4);
+        }
+        let [pa, pb] = w.joint_anchors(hinge).unwrap();
+        assert!((pa - pb).length() < 0.01, "{pa} {pb}");
+        // Disabling twice, or enabling an enabled body, changes nothing; a stale id is refused.
+        w.set_enabled(a, true).unwrap();
+        w.destroy_body(b).unwrap();
+        assert!(w.set_enabled(b, false).is_err());
+        w.set_enabled(a, false).unwrap();
+        w.set_enabled(a, false).unwrap();
+        w.validate().unwrap();
+    }
+
+    #[test]
+    fn disabling_is_the_same_on_any_thread_count_and_through_a_snapshot() {
+        // A pile of 200 boxes; a third of them disabled at step 20, back at step 60.
+        let run = |threads: usize, snapshot_at: Option<usize>| {
+            let mut w = World::new(StepSettings::default());
+            w.set_thread_count(threads);
+            w.create_body(
+                &BodyDef::new(ShapeDef::Box {
+                    half_extents: [30.0, 0.5],
+                    radius: 0.0,
+                })
+                .kind(BodyKind::Static)
+                .at(0.0, -0.5),
+            )
+            .unwrap();
+            let boxes: Vec<BodyId> = (0..200)
+                .map(|k| {
+                    let (x, y) = ((k % 20) as f32 * 1.1 - 10.0, 0.5 + (k / 20) as f32 * 1.05);
+                    w.create_body(&BodyDef::new(unit_box()).at(x, y)).unwrap()
+                })
+                .collect();
+            for step in 0..100 {
+                if step == 20 || step == 60 {
+                    for &b in boxes.iter().step_by(3) {
+                        w.set_enabled(b, step == 60).unwrap();
+                    }
+                }
+                if snapshot_at == Some(step) {
+                    w = World::from_snapshot(w.snapshot()).unwrap();
+                    w.set_thread_count(threads);
+                }
+                w.step(DT, 4);
+            }
+            w.validate().unwrap();
+            assert_eq!(w.non_finite_bodies(), 0);
+            w.state_hash()
+        };
+        let one = run(1, None);
+        assert_eq!(run(4, None), one);
+        assert_eq!(run(2, Some(40)), one);
     }
 }

@@ -40,6 +40,7 @@ impl World {
                 .static_tree
                 .rebuild(&self.shapes.swept_boxes, |s| {
                     slots.is_alive(s as usize)
+                        && !records[s as usize].disabled
                         && sims[records[s as usize].body as usize].kind == BodyKind::Static
                 });
             self.shapes.static_tree_stale = false;

@@ -367,7 +367,7 @@ impl World {
             }
         }
         if options.aabbs {
-            for view in self.shapes().filter(|v| options.sees(&v.fat_aabb)) {
+            for view in self.drawn_shapes(options) {
                 let color = match self.body(view.body).map_or(BodyKind::Static, |b| b.kind) {
                     BodyKind::Static => colors::AABB_STATIC,
                     BodyKind::Kinematic => colors::AABB_KINEMATIC,
@@ -432,7 +432,7 @@ impl World {
             }
         }
         if options.chain_normals {
-            for view in self.shapes().filter(|v| options.sees(&v.fat_aabb)) {
+            for view in self.drawn_shapes(options) {
                 if let Shape::ChainSegment(chain) = view.shape {
                     let a = view.transform.apply(chain.segment.point1);
                     let b = view.transform.apply(chain.segment.point2);
@@ -444,13 +444,21 @@ impl World {
         }
     }
 
+    /// The shapes drawn: live, of an enabled body (a disabled one is out of the world, as
+    /// Box2D's leave its broad phase), meeting the bounds.
+    fn drawn_shapes<'w>(
+        &'w self,
+        options: &'w DrawOptions,
+    ) -> impl Iterator<Item = super::ShapeView<'w>> + 'w {
+        self.shapes().filter(move |v| {
+            !self.shapes.records[v.id.index as usize].disabled && options.sees(&v.fat_aabb)
+        })
+    }
+
     fn draw_shapes<D: DebugDraw + ?Sized>(&self, draw: &mut D, options: &DrawOptions) {
         // A body's shapes are mostly neighbours: its state is read once per run of them.
         let mut last: Option<(BodyId, BodyKind, bool, bool)> = None;
-        for view in self.shapes() {
-            if !options.sees(&view.fat_aabb) {
-                continue;
-            }
+        for view in self.drawn_shapes(options) {
             let (kind, awake, bullet) = match last {
                 Some((body, kind, awake, bullet)) if body == view.body => (kind, awake, bullet),
                 _ => {
@@ -517,6 +525,10 @@ impl World {
         let (Ok(body_a), Ok(body_b)) = (self.body(bodies[0]), self.body(bodies[1])) else {
             return;
         };
+        let disabled = |b: BodyId| self.bodies.records[b.index as usize].disabled;
+        if disabled(bodies[0]) || disabled(bodies[1]) {
+            return;
+        }
         let color = colors::JOINT;
         match &joint.kind {
             JointKind::Filter => return,

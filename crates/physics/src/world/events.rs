@@ -381,9 +381,15 @@ impl World {
             let sensor = &self.shapes.records[s as usize];
             let pose = self.shape_pose(s);
             let aabb = self.shapes.geometry[s as usize].aabb(pose);
+            // A disabled sensor sees nothing (its overlaps end); a disabled visitor is in no
+            // tree.
+            let live = !sensor.disabled;
             self.shapes
                 .tree
                 .query(&aabb, &self.shapes.swept_boxes, |v| {
+                    if !live {
+                        return;
+                    }
                     let r = &self.shapes.records[v as usize];
                     if r.body == sensor.body
                         || r.body == NONE
@@ -431,8 +437,10 @@ impl World {
         for n in 0..self.joints.thresholded.len() {
             let k = self.joints.thresholded[n] as usize;
             let j = self.current(k);
-            let awake = &self.bodies.awake;
-            if !(awake[j.body_a as usize] || awake[j.body_b as usize]) {
+            let (awake, records) = (&self.bodies.awake, &self.bodies.records);
+            let (a, b) = (j.body_a as usize, j.body_b as usize);
+            // Neither asleep nor (a joint to a disabled body is not solved) disabled.
+            if !(awake[a] || awake[b]) || records[a].disabled || records[b].disabled {
                 continue;
             }
             let (f, t) = j.reaction(inv_h);

@@ -159,7 +159,7 @@ impl World {
         for body in [a, b] {
             self.wake_body(body);
         }
-        if links && self.is_dynamic(a) && self.is_dynamic(b) {
+        if links && self.links_islands_of(a, b) {
             self.islands.link(a, b);
         }
         if keep_apart {
@@ -195,8 +195,22 @@ impl World {
         found
     }
 
-    fn is_dynamic(&self, body: u32) -> bool {
-        self.bodies.sims[body as usize].kind == BodyKind::Dynamic
+    /// The slots of the live joints of body `body`, in slot order.
+    pub(super) fn joints_of_body(&self, body: u32) -> impl Iterator<Item = u32> + '_ {
+        (0..self.joints.list.len() as u32).filter(move |&k| {
+            let j = &self.joints.list[k as usize];
+            self.joints.slots.is_alive(k as usize) && (j.body_a == body || j.body_b == body)
+        })
+    }
+
+    /// Whether a joint between bodies `a` and `b` joins their islands: both are dynamic and
+    /// enabled (a disabled body has no island).
+    pub(super) fn links_islands_of(&self, a: u32, b: u32) -> bool {
+        let joins = |i: u32| {
+            self.bodies.sims[i as usize].kind == BodyKind::Dynamic
+                && !self.bodies.records[i as usize].disabled
+        };
+        joins(a) && joins(b)
     }
 
     pub(super) fn joint_slot(&self, id: JointId) -> Result<usize, WorldError> {
@@ -228,7 +242,7 @@ impl World {
         for body in [a, b] {
             self.wake_body(body);
         }
-        if joint.links_islands() && self.is_dynamic(a) && self.is_dynamic(b) {
+        if joint.links_islands() && self.links_islands_of(a, b) {
             self.islands.unlink(a, b);
         }
         if !joint.collide_connected {
@@ -327,7 +341,11 @@ impl World {
                 .meta
                 .extend(self.joints.list.iter().enumerate().map(|(k, j)| JointMeta {
                     bodies: [j.body_a, j.body_b],
-                    solved: self.joints.slots.is_alive(k) && j.solved(),
+                    // A joint to a disabled body is kept but not solved.
+                    solved: self.joints.slots.is_alive(k)
+                        && j.solved()
+                        && !self.bodies.records[j.body_a as usize].disabled
+                        && !self.bodies.records[j.body_b as usize].disabled,
                     mouse: matches!(j.kind, JointKind::Mouse(_)),
                     chain: chain::eligible(j),
                 }));

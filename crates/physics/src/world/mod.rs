@@ -197,6 +197,10 @@ struct BodyRecord {
     /// Its mass data were given by [`World::set_mass_data`], not computed from its shapes.
     #[serde(default)]
     custom_mass: bool,
+    /// Disabled ([`World::set_enabled`]): out of the broad phase, the solver, islands and
+    /// every query until enabled again.
+    #[serde(default)]
+    disabled: bool,
 }
 
 /// A shape on a body.
@@ -227,6 +231,10 @@ struct ShapeRecord {
     /// Its rolling resistance coefficient (0 for most shapes).
     #[serde(default)]
     rolling_resistance: f32,
+    /// Its body is disabled: the shape is in no tree, no pair and no query (a copy of the
+    /// body's flag where the tree build, the pair search and the queries read).
+    #[serde(default)]
+    disabled: bool,
 }
 
 impl ShapeRecord {

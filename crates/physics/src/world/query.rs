@@ -127,7 +127,10 @@ impl World {
         let excluded = filter.exclude_body.is_some_and(|b| {
             b.index == r.body && b.generation == self.bodies.slots.generation(r.body as usize)
         });
-        self.shapes.slots.is_alive(s as usize) && !excluded && filter.sees(&r.filter, r.sensor)
+        self.shapes.slots.is_alive(s as usize)
+            && !r.disabled
+            && !excluded
+            && filter.sees(&r.filter, r.sensor)
     }
 
     /// Calls `f(shape slot)` for every shape `filter` sees whose fat box overlaps `aabb`,

@@ -202,20 +202,18 @@ impl World {
             // bodies that move together (a falling pile, a drifting cloud) keep a refitted
             // tree good. The tree's shape never changes which pairs are found, nor their
             // order (both are sorted).
-            let slots = &self.shapes.slots;
+            let (slots, records) = (&self.shapes.slots, &self.shapes.records);
+            // A disabled body's shapes are in no tree.
+            let in_tree = |s: u32| slots.is_alive(s as usize) && !records[s as usize].disabled;
             if self.shapes.proxies_changed {
-                self.shapes
-                    .tree
-                    .rebuild(&self.shapes.swept_boxes, |s| slots.is_alive(s as usize));
+                self.shapes.tree.rebuild(&self.shapes.swept_boxes, in_tree);
                 self.shapes.proxies_changed = false;
             } else {
                 self.shapes
                     .tree
                     .refit_moved(&self.shapes.swept_boxes, &self.shapes.moved_proxies);
                 if self.shapes.tree.looseness() > 1.25 {
-                    self.shapes
-                        .tree
-                        .rebuild(&self.shapes.swept_boxes, |s| slots.is_alive(s as usize));
+                    self.shapes.tree.rebuild(&self.shapes.swept_boxes, in_tree);
                 }
             }
             self.shapes.tree_dirty = false;

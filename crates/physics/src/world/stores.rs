@@ -238,15 +238,34 @@ impl Shapes {
 
     /// Gives proxy `s` new boxes and queues it for the next pair search; `is_static` says
     /// whether its body is static (the static tree is then stale too).
+    /// A disabled shape's boxes are kept for when it comes back, but it is not queued.
     pub fn set_boxes(&mut self, s: u32, swept: Aabb, unswept: Aabb, is_static: bool) {
         let su = s as usize;
         self.swept_boxes[su] = swept;
         self.unswept_boxes[su] = unswept;
+        if self.records[su].disabled {
+            return;
+        }
         self.mark_moved(s);
         self.tree_dirty = true;
         if is_static {
             self.static_tree_stale = true;
         }
+    }
+
+    /// Takes shape `s` out of the broad phase (`disabled`) or puts it back: the trees are
+    /// rebuilt without or with it at their next use, and a disabled shape leaves the moved
+    /// list (an enabled one is queued by its body's new boxes).
+    pub fn set_disabled(&mut self, s: u32, disabled: bool) {
+        let su = s as usize;
+        self.records[su].disabled = disabled;
+        if disabled && self.moved_flags[su] {
+            self.moved_flags[su] = false;
+            self.moved_proxies.retain(|&m| m != s);
+        }
+        self.proxies_changed = true;
+        self.static_tree_stale = true;
+        self.tree_dirty = true;
     }
 
     /// Queues proxy `s` for the next pair search (once, however often it moves).

@@ -62,6 +62,12 @@ impl World {
                 if self.shapes.body[su] as usize != i {
                     return Err(format!("shape {s}'s compact body copy is stale"));
                 }
+                if self.shapes.records[su].disabled != self.bodies.records[i].disabled {
+                    return Err(format!("shape {s}'s disabled flag differs from body {i}'s"));
+                }
+                if self.shapes.records[su].disabled && self.shapes.moved_flags[su] {
+                    return Err(format!("disabled shape {s} is queued for the pair search"));
+                }
                 if self.sweeps_every_pair(i) != (self.shapes.unswept_boxes[su] == Aabb::EVERYWHERE)
                 {
                     return Err(format!(
@@ -103,6 +109,15 @@ impl World {
             }
             // Awake and motion flags.
             let island = self.islands.of_body.get(i).copied().unwrap_or(NO_ISLAND);
+            if self.bodies.records[i].disabled {
+                // Out of everything: asleep, in no island, not integrated.
+                if self.bodies.awake[i] || island != NO_ISLAND || self.bodies.motion[i].moves {
+                    return Err(format!(
+                        "disabled body {i} is awake, moves or is in an island"
+                    ));
+                }
+                continue;
+            }
             match kind {
                 BodyKind::Static => {
                     if self.bodies.awake[i] || island != NO_ISLAND {
@@ -160,6 +175,9 @@ impl World {
                     || self.shapes.records[s as usize].body != b
                 {
                     return Err(format!("contact {k} names shape {s} not on body {b}"));
+                }
+                if self.bodies.records[b as usize].disabled {
+                    return Err(format!("contact {k} is of disabled body {b}"));
                 }
             }
             if self.contacts.pairs.get(&pair_key(c.shape_a, c.shape_b)) != Some(&(k as u32)) {
