@@ -205,6 +205,31 @@ fn one_and_two_threads_agree() {
 }
 
 #[test]
+fn a_pre_solve_hook_that_lets_every_contact_push_changes_nothing() {
+    // `--pre-solve` measures the hook's cost: the hook is called (a pyramid has contacts
+    // from its first step) and answers yes, so the state is the plain run's bit for bit.
+    let plain = stdout_json(&bench(&[
+        "run",
+        "pyramid",
+        "--steps",
+        "60",
+        "--threads",
+        "2",
+    ]));
+    let hooked = stdout_json(&bench(&[
+        "run",
+        "pyramid",
+        "--steps",
+        "60",
+        "--threads",
+        "2",
+        "--pre-solve",
+    ]));
+    assert!(plain["contacts"].as_u64().unwrap() > 0);
+    assert_eq!(plain["state_hash"], hooked["state_hash"]);
+}
+
+#[test]
 fn a_scene_file_runs_and_out_writes_the_file() {
     let scene = TempFile::new(
         "drop.ron",
