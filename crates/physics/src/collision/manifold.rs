@@ -59,10 +59,6 @@ pub struct Manifold {
     pub points: [ManifoldPoint; 2],
     /// 0, 1 or 2.
     pub count: usize,
-    /// Accumulated rolling-resistance impulse (N·m·s; warm start for the next step), the
-    /// contact's as a whole (Box2D's `b2Manifold::rollingImpulse`).
-    #[serde(default)]
-    pub rolling_impulse: f32,
 }
 
 impl Manifold {

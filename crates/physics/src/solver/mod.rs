@@ -58,16 +58,34 @@ pub struct ContactInput<'a> {
     pub friction: f32,
     /// Mixed restitution.
     pub restitution: f32,
-    /// The surfaces' speed along the tangent (m/s; a conveyor belt), the shapes' summed.
+    /// Its shapes (slots), for the surface materials.
+    pub shapes: [u32; 2],
+    /// The surfaces' speed along the tangent (m/s; a conveyor belt), the shapes' summed
+    /// (filled by prepare from [`SurfaceOf`]; 0 without).
     pub tangent_speed: f32,
-    /// The most rolling torque per newton of normal force (m; 0: none).
+    /// The most rolling torque per newton of normal force (m; 0: none; as `tangent_speed`).
     pub rolling_resistance: f32,
+    /// Last step's accumulated rolling impulse (warm start).
+    pub rolling_impulse: f32,
     /// This step's manifold (with warm-start impulses).
     pub manifold: &'a Manifold,
     /// Both bodies' masses, as the contact keeps them (copied when it is made, and refreshed
     /// by the world's one mass update whenever a body's shapes or kind change, which
     /// `World::validate` checks), so neither prepare nor the colouring looks the bodies up.
     pub masses: [SolverBody; 2],
+}
+
+/// A contact's surface materials from its two shapes (slots): `(tangent speed, rolling
+/// resistance)`, as the world mixes them. Given to prepare only by a world that has any.
+pub type SurfaceOf<'a> = dyn Fn(u32, u32) -> (f32, f32) + Sync + 'a;
+
+/// Fills a contact's surface materials from its shapes, where the world has any.
+#[inline]
+fn with_surface<'c>(mut c: ContactInput<'c>, surface: Option<&SurfaceOf<'_>>) -> ContactInput<'c> {
+    if let Some(f) = surface {
+        (c.tangent_speed, c.rolling_resistance) = f(c.shapes[0], c.shapes[1]);
+    }
+    c
 }
 
 /// `Touching::dynamic` for a body that is not dynamic.
@@ -208,6 +226,7 @@ impl Solver {
         body_count: usize,
         states: &[BodyState],
         params: &SolverParams,
+        surface: Option<&SurfaceOf<'_>>,
         spread: Spread<'_>,
         min_per_worker: usize,
     ) {
@@ -272,7 +291,7 @@ impl Solver {
             &|offset, part: &mut [ContactConstraint]| {
                 for (k, con) in part.iter_mut().enumerate() {
                     let contact_index = touching[slot_source[offset + k] as usize].contact;
-                    let c = contacts[contact_index as usize].input();
+                    let c = with_surface(contacts[contact_index as usize].input(), surface);
                     *con = build_constraint(contact_index, &c, states, params);
                 }
             },
@@ -314,7 +333,7 @@ impl Solver {
                     writer.prefetch((at >> 3) as usize + 1, (at & 7) as usize);
                 }
                 let contact = touching[k].contact;
-                let input = contacts[contact as usize].input();
+                let input = with_surface(contacts[contact as usize].input(), surface);
                 let [a, b] = &input.masses;
                 let softness = params.softness(a, b);
                 let lane = LaneInput {
@@ -925,7 +944,7 @@ fn build_constraint(
         rolling_resistance: c.rolling_resistance,
         rolling_mass: rolling_mass(ba.inv_inertia, bb.inv_inertia),
         rolling_impulse: if params.warm_starting && c.rolling_resistance > 0.0 {
-            m.rolling_impulse
+            c.rolling_impulse
         } else {
             0.0
         },

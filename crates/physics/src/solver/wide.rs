@@ -161,7 +161,7 @@ impl<'a> LaneWriter<'a> {
                     super::rolling_mass(body_a.inv_inertia, body_b.inv_inertia)
                 );
                 let impulse = if warm_starting {
-                    m.rolling_impulse
+                    c.rolling_impulse
                 } else {
                     0.0
                 };

@@ -25,6 +25,14 @@ use crate::shape::MassData;
 /// world.step(1.0 / 60.0, 4);
 /// assert!(world.body(balloon).unwrap().linear_velocity.y > 0.0);
 /// assert_eq!(world.mass_data(balloon).unwrap().mass, 2.0);
+/// // Disabled, it stays where it is, seen by nothing, until enabled again.
+/// let at = world.body(balloon).unwrap().position;
+/// world.set_enabled(balloon, false).unwrap();
+/// world.step(1.0 / 60.0, 4);
+/// assert_eq!(world.body(balloon).unwrap().position, at);
+/// assert_eq!(world.body_at(at), None);
+/// world.set_enabled(balloon, true).unwrap();
+/// assert_eq!(world.body_at(at), Some(balloon));
 /// ```
 impl World {
     /// Sets a body's linear damping (per second, ≥ 0): its speed decays as `1/(1 + h·c)`

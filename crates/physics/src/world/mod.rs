@@ -288,13 +288,6 @@ struct Contact {
     body_b: u32,
     friction: f32,
     restitution: f32,
-    /// The shapes' tangent speeds summed (Box2D's rule; absent from older snapshots: 0).
-    #[serde(default)]
-    tangent_speed: f32,
-    /// The most rolling torque per newton of normal force (m; see
-    /// `ShapeRecord::mixed_rolling_resistance`; absent from older snapshots: 0).
-    #[serde(default)]
-    rolling_resistance: f32,
     manifold: Manifold,
     /// Poses when the manifold was last computed, for contact recycling.
     cache: Option<ContactCache>,
@@ -305,6 +298,12 @@ struct Contact {
     /// `World::gather_hits`).
     #[serde(default)]
     hit_pending: bool,
+    /// Accumulated rolling-resistance impulse (N·m·s; warm start for the next step; Box2D
+    /// keeps it in the manifold). It fits the contact's padding: a contact stays 200 bytes,
+    /// and its surface materials are read from its shapes by prepare, only in a world that
+    /// has any (`Shapes::any_surface`), so a world without pays nothing for them.
+    #[serde(default)]
+    rolling_impulse: f32,
     /// The bodies' masses, refreshed from the bodies whenever one's mass data change (see
     /// `ContactInput::masses`). Not stored in snapshots: restoring copies them again.
     #[serde(skip)]
@@ -359,8 +358,10 @@ impl SolverContact for Contact {
             body_b: self.body_b,
             friction: self.friction,
             restitution: self.restitution,
-            tangent_speed: self.tangent_speed,
-            rolling_resistance: self.rolling_resistance,
+            shapes: [self.shape_a, self.shape_b],
+            tangent_speed: 0.0,
+            rolling_resistance: 0.0,
+            rolling_impulse: self.rolling_impulse,
             manifold: &self.manifold,
             masses: self.masses,
         }
@@ -560,5 +561,18 @@ impl World {
     /// Worker threads the step uses.
     pub fn thread_count(&self) -> usize {
         self.workers.threads
+    }
+}
+#[cfg(test)]
+mod layout_tests {
+    /// The contact is the step's largest stream: the narrow phase reads every awake one,
+    /// prepare and the impulse store touch every touching one. At 216 bytes (surface
+    /// materials copied into it, the rolling impulse in the manifold) the narrow phase took
+    /// 7% and the store 6% longer on many_pyramids than at 200 (docs/bench/game_api_ab.md):
+    /// what a world without those features must not pay.
+    #[test]
+    fn a_contact_stays_within_200_bytes() {
+        assert!(std::mem::size_of::<super::Contact>() <= 200);
+        assert!(std::mem::size_of::<crate::collision::manifold::Manifold>() <= 104);
     }
 }

@@ -25,6 +25,10 @@ use crate::id::{BodyId, JointId, ShapeId};
 /// let ice = world.body_shapes(ground).unwrap().next().unwrap().id;
 /// world.set_friction(ice, 0.02).unwrap();
 /// assert!(world.set_friction(ice, -1.0).is_err());
+/// // A conveyor's surface speed and a mat's rolling resistance, each with its getter.
+/// world.set_tangent_speed(ice, 1.5).unwrap();
+/// world.set_rolling_resistance(ice, 0.1).unwrap();
+/// assert_eq!(world.rolling_resistance(ice), Ok(0.1));
 /// world.step(1.0 / 60.0, 4);
 /// assert_eq!(world.body_contacts(ball).unwrap().len(), 1);
 /// // A filter that refuses the ground: the ball falls through it.
@@ -126,7 +130,8 @@ impl World {
             return Err(invalid(id, "tangent speed", speed, "it must be finite"));
         }
         self.shapes.records[s].tangent_speed = speed;
-        self.remix_contacts(s as u32);
+        // Prepare reads it from the shape at the next step.
+        self.shapes.any_surface |= speed != 0.0;
         Ok(())
     }
 
@@ -149,7 +154,7 @@ impl World {
         let s = self.shape_slot(id)?;
         non_negative(id, "rolling resistance", coefficient)?;
         self.shapes.records[s].rolling_resistance = coefficient;
-        self.remix_contacts(s as u32);
+        self.shapes.any_surface |= coefficient > 0.0;
         Ok(())
     }
 
@@ -229,14 +234,6 @@ impl World {
                 let (a, b) = (&records[c.shape_a as usize], &records[c.shape_b as usize]);
                 c.friction = ShapeRecord::mixed_friction(a, b);
                 c.restitution = ShapeRecord::mixed_restitution(a, b);
-                c.tangent_speed = ShapeRecord::mixed_tangent_speed(a, b);
-                let geometry = &self.shapes.geometry;
-                c.rolling_resistance = ShapeRecord::mixed_rolling_resistance(
-                    a,
-                    &geometry[c.shape_a as usize],
-                    b,
-                    &geometry[c.shape_b as usize],
-                );
             }
         }
     }

@@ -334,6 +334,11 @@ impl World {
         world.shapes.proxies_changed = true;
         world.shapes.static_tree_stale = true;
         world.shapes.tree_dirty = true;
+        let live = |s: &usize| world.shapes.slots.is_alive(*s);
+        world.shapes.any_surface = (0..world.shapes.records.len()).filter(live).any(|s| {
+            let r = &world.shapes.records[s];
+            r.tangent_speed != 0.0 || r.rolling_resistance > 0.0
+        });
         Ok(world)
     }
 }

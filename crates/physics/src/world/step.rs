@@ -366,17 +366,11 @@ impl World {
             body_b: rb.body,
             friction: ShapeRecord::mixed_friction(ra, rb),
             restitution: ShapeRecord::mixed_restitution(ra, rb),
-            tangent_speed: ShapeRecord::mixed_tangent_speed(ra, rb),
-            rolling_resistance: ShapeRecord::mixed_rolling_resistance(
-                ra,
-                &self.shapes.geometry[a as usize],
-                rb,
-                &self.shapes.geometry[b as usize],
-            ),
             manifold: Manifold::default(),
             cache: None,
             touched: false,
             hit_pending: false,
+            rolling_impulse: 0.0,
             masses: [
                 self.bodies.masses[ra.body as usize],
                 self.bodies.masses[rb.body as usize],
@@ -472,7 +466,6 @@ impl World {
             // moved to be relative to the body's centre, as the solver wants them.
             let (pose_a, pose_b) = (ra.pose(xa), rb.pose(xb));
             let mut m = collide(&shapes[sa], pose_a, &shapes[sb], pose_b, max_distance);
-            m.rolling_impulse = old.rolling_impulse;
             for p in &mut m.points[..m.count] {
                 if ra.offset {
                     p.anchor_a += pose_a.p - xa.p;
@@ -625,6 +618,19 @@ impl World {
         self.list_awake_joints();
         self.joints.last_inv_h = inv_h;
         self.solver.use_wide = s.simd;
+        // Surface materials (conveyors, rolling resistance) from the contact's shapes, read
+        // only in a world that has any: the others pay nothing for them.
+        let (records, geometry) = (&self.shapes.records, &self.shapes.geometry);
+        let surface = |a: u32, b: u32| {
+            let (ra, rb) = (&records[a as usize], &records[b as usize]);
+            let (sa, sb) = (&geometry[a as usize], &geometry[b as usize]);
+            (
+                ShapeRecord::mixed_tangent_speed(ra, rb),
+                ShapeRecord::mixed_rolling_resistance(ra, sa, rb, sb),
+            )
+        };
+        let surface: Option<&crate::solver::SurfaceOf<'_>> =
+            self.shapes.any_surface.then_some(&surface);
         self.solver.prepare(
             (
                 &self.joints.awake,
@@ -636,6 +642,7 @@ impl World {
             self.bodies.masses.len(),
             &self.bodies.states,
             &params,
+            surface,
             spread,
             self.wide.prepare,
         );
@@ -685,7 +692,7 @@ impl World {
                 mp.tangent_impulse = r.tangent_impulse;
                 mp.total_normal_impulse = r.total_normal_impulse;
                 mp.normal_velocity = r.relative_velocity;
-                contact.manifold.rolling_impulse = r.rolling_impulse;
+                contact.rolling_impulse = r.rolling_impulse;
             },
         );
         profile.store_impulses_ms = ms(t);

@@ -188,6 +188,9 @@ pub(super) struct Shapes {
     /// tree per body type): rebuilt when a static shape is added, removed or moved.
     pub static_tree: BroadPhase,
     pub static_tree_stale: bool,
+    /// Some shape has had a tangent speed or rolling resistance: prepare reads contacts'
+    /// surface materials from their shapes (set, never cleared but by a snapshot's restore).
+    pub any_surface: bool,
 }
 
 impl Shapes {
@@ -199,6 +202,7 @@ impl Shapes {
             max: glam::Vec2::ZERO,
         };
         let body = record.body;
+        self.any_surface |= record.tangent_speed != 0.0 || record.rolling_resistance > 0.0;
         if new {
             self.geometry.push(shape);
             self.records.push(record);
