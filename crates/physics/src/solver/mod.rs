@@ -31,7 +31,7 @@ use crate::threads::parallel::{
 };
 use contact_solver::{ConstraintPoint, ContactConstraint};
 use graph_color::{COLOR_COUNT, GraphColoring, OVERFLOW};
-use wide::{LANES, LaneIndex, LaneInput, LaneWriter, WideConstraint};
+use wide::{LANES, LaneIndex, LaneInput, LaneWriter, WideConstraint, WideSurface};
 
 /// `lane_of` for a contact solved as a scalar constraint.
 const NO_LANE: LaneIndex = u32::MAX;
@@ -79,11 +79,17 @@ pub struct ContactInput<'a> {
 /// resistance)`, as the world mixes them. Given to prepare only by a world that has any.
 pub type SurfaceOf<'a> = dyn Fn(u32, u32) -> (f32, f32) + Sync + 'a;
 
-/// Fills a contact's surface materials from its shapes, where the world has any.
+/// What prepare reads of `contact`, with its surface materials from its shapes where the
+/// world has any (a world without reads nothing more of it than before they existed).
 #[inline]
-fn with_surface<'c>(mut c: ContactInput<'c>, surface: Option<&SurfaceOf<'_>>) -> ContactInput<'c> {
+fn input_of<'c, C: SolverContact>(
+    contact: &'c C,
+    surface: Option<&SurfaceOf<'_>>,
+) -> ContactInput<'c> {
+    let mut c = contact.input();
     if let Some(f) = surface {
         (c.tangent_speed, c.rolling_resistance) = f(c.shapes[0], c.shapes[1]);
+        c.rolling_impulse = contact.rolling_impulse();
     }
     c
 }
@@ -102,8 +108,11 @@ pub struct Touching {
 
 /// A contact the solver builds a constraint from (the world's contact type).
 pub trait SolverContact: Sync {
-    /// What prepare reads of it.
+    /// What prepare reads of it (surface materials and the rolling impulse as 0).
     fn input(&self) -> ContactInput<'_>;
+    /// Last step's accumulated rolling impulse, read only where the world has surface
+    /// materials.
+    fn rolling_impulse(&self) -> f32;
 }
 
 /// Constraint buffers reused from step to step.
@@ -119,6 +128,9 @@ pub struct Solver {
     pub wide: Vec<WideConstraint>,
     /// See `wide`.
     pub wide_ranges: Vec<Range<usize>>,
+    /// The wide constraints' surface materials, one each, in a world that has any; else
+    /// empty (see [`WideSurface`]).
+    wide_surfaces: Vec<WideSurface>,
     coloring: GraphColoring,
     /// For each touching contact (by position in `touching`), its colour and its rank among
     /// that colour's contacts, in contact order.
@@ -291,7 +303,7 @@ impl Solver {
             &|offset, part: &mut [ContactConstraint]| {
                 for (k, con) in part.iter_mut().enumerate() {
                     let contact_index = touching[slot_source[offset + k] as usize].contact;
-                    let c = with_surface(contacts[contact_index as usize].input(), surface);
+                    let c = input_of(&contacts[contact_index as usize], surface);
                     *con = build_constraint(contact_index, &c, states, params);
                 }
             },
@@ -307,12 +319,17 @@ impl Solver {
         // the prefetches cost more than they save (large_pyramid's 2 MB: +15% on this loop,
         // many_pyramids' 8 MB: -21%; a 2-vCPU EPYC).
         let cold = self.wide.len() * std::mem::size_of::<WideConstraint>() > COLD_CONSTRAINTS;
+        self.wide_surfaces.clear();
+        if surface.is_some() {
+            self.wide_surfaces
+                .resize(self.wide.len(), WideSurface::ZERO);
+        }
         {
             // SAFETY: every touching contact has its own lane (`lane_of` is injective on
             // the lanes it assigns), and nothing else touches `self.wide` until `writer`
             // is dropped at the end of this block.
             #[allow(unsafe_code)]
-            let writer = unsafe { LaneWriter::shared(&mut self.wide) };
+            let writer = unsafe { LaneWriter::shared(&mut self.wide, &mut self.wide_surfaces) };
             let lane_of = &self.lane_of;
             let write_lane = |k: usize| {
                 // The touching contacts lie sparse in the contact array where many pairs
@@ -333,7 +350,7 @@ impl Solver {
                     writer.prefetch((at >> 3) as usize + 1, (at & 7) as usize);
                 }
                 let contact = touching[k].contact;
-                let input = with_surface(contacts[contact as usize].input(), surface);
+                let input = input_of(&contacts[contact as usize], surface);
                 let [a, b] = &input.masses;
                 let softness = params.softness(a, b);
                 let lane = LaneInput {
@@ -357,6 +374,9 @@ impl Solver {
                 }
             },
         );
+        for (w, s) in self.wide.iter().zip(&mut self.wide_surfaces) {
+            w.finish_surface(s);
+        }
         let or = |a: bool, b: bool| a || b;
         self.any_restitution = for_parts(
             spread,
@@ -645,7 +665,7 @@ impl Solver {
                         tangent_impulse: p.tangent_impulse,
                         total_normal_impulse: p.total_normal_impulse,
                         relative_velocity: p.relative_velocity,
-                        rolling_impulse: c.rolling_impulse,
+                        rolling_impulse: (c.rolling_resistance > 0.0).then_some(c.rolling_impulse),
                     },
                 );
             }
@@ -659,7 +679,7 @@ impl Solver {
         if self.use_wide {
             // In contact order, as prepare wrote the lanes: the contacts are written as a
             // stream and the lanes are read from one stream per colour.
-            let (wide, lane_of) = (&self.wide, &self.lane_of);
+            let (wide, lane_of, surfaces) = (&self.wide, &self.lane_of, &self.wide_surfaces);
             let store_lane = |k: usize| {
                 // As in prepare: fetch a contact a few ahead, the stream is sparse.
                 if let Some(&ahead) = lane_of.get(k + 8)
@@ -677,7 +697,8 @@ impl Solver {
                 let i = w.contact_of(lane) as usize;
                 // SAFETY: as above; a contact is in one lane of one wide constraint.
                 let contact = unsafe { &mut contacts.range_mut(i..i + 1)[0] };
-                w.lane_results(lane, |point, r| store(contact, point, r));
+                let surface = surfaces.get((at >> 3) as usize);
+                w.lane_results(lane, surface, |point, r| store(contact, point, r));
             };
             let all = 0..lane_of.len();
             for_each_part(spread, all, min_per_worker, &|_, part: Range<usize>| {
@@ -785,6 +806,7 @@ impl Solver {
         let passes = Passes {
             scalar: SharedSlice::new(&mut self.constraints),
             wide: SharedSlice::new(&mut self.wide),
+            surfaces: SharedSlice::new(&mut self.wide_surfaces),
             use_wide: self.use_wide,
             use_avx: self.use_avx,
             joints: SharedSlice::new(joints),
@@ -1023,8 +1045,9 @@ pub struct PointResult {
     /// Normal velocity before the solve.
     pub relative_velocity: f32,
     /// The contact's accumulated rolling-resistance impulse (the same for each of its
-    /// points).
-    pub rolling_impulse: f32,
+    /// points), where it resists rolling: a contact without leaves its own untouched, so
+    /// the store writes nothing more for it.
+    pub rolling_impulse: Option<f32>,
 }
 
 /// The knobs of one run of substeps.
@@ -1088,6 +1111,8 @@ struct Bodies<'a> {
 struct Passes<'a> {
     scalar: SharedSlice<'a, ContactConstraint>,
     wide: SharedSlice<'a, WideConstraint>,
+    /// The wide constraints' surface materials: empty, or one per constraint.
+    surfaces: SharedSlice<'a, WideSurface>,
     use_wide: bool,
     use_avx: bool,
     joints: SharedSlice<'a, Joint>,
@@ -1246,11 +1271,18 @@ impl Passes<'_> {
             }
             pass => {
                 // SAFETY: as above.
-                let c = unsafe { self.wide.range_mut(items) };
+                let c = unsafe { self.wide.range_mut(items.clone()) };
+                // SAFETY: as above; the surfaces, where there are any, match the constraints
+                // one for one.
+                let s = if self.surfaces.len() == 0 {
+                    &mut [][..]
+                } else {
+                    unsafe { self.surfaces.range_mut(items) }
+                };
                 match pass {
-                    Pass::WarmStart => wide::warm_start(c, states, avx),
-                    Pass::Solve => wide::solve(c, states, inv_h, true, push, avx),
-                    Pass::Relax => wide::solve(c, states, inv_h, false, push, avx),
+                    Pass::WarmStart => wide::warm_start(c, s, states, avx),
+                    Pass::Solve => wide::solve(c, s, states, inv_h, true, push, avx),
+                    Pass::Relax => wide::solve(c, s, states, inv_h, false, push, avx),
                     _ => wide::apply_restitution(c, states, p.restitution_threshold, avx),
                 }
             }

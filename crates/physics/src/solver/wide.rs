@@ -42,6 +42,9 @@ pub struct LaneInput<'c> {
 pub struct LaneWriter<'a> {
     ptr: *mut WideConstraint,
     len: usize,
+    /// The constraints' surface materials, one per constraint, or none (a world without).
+    surfaces: *mut WideSurface,
+    surfaces_len: usize,
     _borrow: PhantomData<&'a mut [WideConstraint]>,
 }
 
@@ -62,10 +65,14 @@ impl<'a> LaneWriter<'a> {
     /// # Safety
     /// While it lives, each lane of each constraint is written by at most one call of
     /// [`write`](Self::write), and nothing else reads or writes the constraints.
-    pub unsafe fn shared(wide: &'a mut [WideConstraint]) -> Self {
+    /// `surfaces` is empty, or holds one entry per constraint (then every contact with a
+    /// surface material writes its lane there).
+    pub unsafe fn shared(wide: &'a mut [WideConstraint], surfaces: &'a mut [WideSurface]) -> Self {
         Self {
             ptr: wide.as_mut_ptr(),
             len: wide.len(),
+            surfaces: surfaces.as_mut_ptr(),
+            surfaces_len: surfaces.len(),
             _borrow: PhantomData,
         }
     }
@@ -149,23 +156,28 @@ impl<'a> LaneWriter<'a> {
             put!((*w).normal_y, f32, m.normal.y);
             put!((*w).friction, f32, c.friction);
             put!((*w).restitution, f32, c.restitution);
-            put!((*w).tangent_speed, f32, c.tangent_speed);
-            // Rolling resistance only where the lane has it: `finish` zeroes the other lanes
-            // of a constraint that needs them, and one that does not never reads them.
-            if c.rolling_resistance > 0.0 {
-                let [body_a, body_b] = &c.masses;
-                put!((*w).rolling_resistance, f32, c.rolling_resistance);
+            // Surface materials only where the lane has one, into the side array: `finish`
+            // zeroes the other lanes of a constraint that needs them, and one that does not
+            // never reads them.
+            if c.tangent_speed != 0.0 || c.rolling_resistance > 0.0 {
+                assert!(
+                    wide < self.surfaces_len,
+                    "a surface material without its array"
+                );
+                let s = self.surfaces.add(wide);
+                put!((*s).tangent_speed, f32, c.tangent_speed);
+                put!((*s).rolling_resistance, f32, c.rolling_resistance);
                 put!(
-                    (*w).rolling_mass,
+                    (*s).rolling_mass,
                     f32,
                     super::rolling_mass(body_a.inv_inertia, body_b.inv_inertia)
                 );
-                let impulse = if warm_starting {
-                    c.rolling_impulse
-                } else {
-                    0.0
-                };
-                put!((*w).rolling_impulse, f32, impulse);
+                let rolls = warm_starting && c.rolling_resistance > 0.0;
+                put!(
+                    (*s).rolling_impulse,
+                    f32,
+                    if rolls { c.rolling_impulse } else { 0.0 }
+                );
             }
             put!((*w).bias_rate, f32, x.softness.bias_rate);
             put!((*w).mass_scale, f32, x.softness.mass_scale);
@@ -268,7 +280,7 @@ pub struct WideConstraint {
     any_restitution: bool,
     /// A lane's surfaces move along the tangent (a conveyor): friction reads `tangent_speed`.
     any_tangent_speed: bool,
-    /// A lane resists rolling: the three `rolling_` arrays are valid in every lane.
+    /// A lane resists rolling (its [`WideSurface`] is valid in every lane).
     any_rolling: bool,
     inv_mass_a: f32x8,
     inv_i_a: f32x8,
@@ -278,14 +290,36 @@ pub struct WideConstraint {
     normal_y: f32x8,
     friction: f32x8,
     restitution: f32x8,
-    tangent_speed: f32x8,
     bias_rate: f32x8,
     mass_scale: f32x8,
     impulse_scale: f32x8,
     points: [WidePoint; 2],
+}
+
+/// The surface materials of a wide constraint's lanes (conveyor speed, rolling resistance),
+/// kept beside the constraints rather than in them, and only in a world that has any: the
+/// solve streams every constraint each pass, and 128 bytes more in each of them cost the
+/// worlds without these materials too.
+#[derive(Clone, Copy, Debug)]
+pub struct WideSurface {
+    /// The surfaces' speed along the tangent (m/s).
+    tangent_speed: f32x8,
+    /// The most rolling torque per newton of normal force (m).
     rolling_resistance: f32x8,
+    /// Effective mass of the relative spin.
     rolling_mass: f32x8,
+    /// Accumulated rolling impulse.
     rolling_impulse: f32x8,
+}
+
+impl WideSurface {
+    /// No material in any lane.
+    pub const ZERO: WideSurface = WideSurface {
+        tangent_speed: f32x8::ZERO,
+        rolling_resistance: f32x8::ZERO,
+        rolling_mass: f32x8::ZERO,
+        rolling_impulse: f32x8::ZERO,
+    };
 }
 
 impl WidePoint {
@@ -329,14 +363,10 @@ impl WideConstraint {
         normal_y: f32x8::ZERO,
         friction: f32x8::ZERO,
         restitution: f32x8::ZERO,
-        tangent_speed: f32x8::ZERO,
         bias_rate: f32x8::ZERO,
         mass_scale: f32x8::ZERO,
         impulse_scale: f32x8::ZERO,
         points: [WidePoint::ZERO; 2],
-        rolling_resistance: f32x8::ZERO,
-        rolling_mass: f32x8::ZERO,
-        rolling_impulse: f32x8::ZERO,
     };
 
     /// Completes a constraint whose first `lanes` lanes were written by [`LaneWriter`]:
@@ -359,20 +389,6 @@ impl WideConstraint {
         self.any_restitution = any & 8 != 0;
         self.any_tangent_speed = any & 16 != 0;
         self.any_rolling = any & 32 != 0;
-        if self.any_rolling {
-            // Lanes without rolling resistance were not written: zeros, so they apply none.
-            for l in 0..LANES {
-                if l >= lanes || self.flags[l] & 32 == 0 {
-                    for x in [
-                        &mut self.rolling_resistance,
-                        &mut self.rolling_mass,
-                        &mut self.rolling_impulse,
-                    ] {
-                        x.as_mut_array()[l] = 0.0;
-                    }
-                }
-            }
-        }
         for l in lanes..LANES {
             self.contact[l] = 0;
             self.count[l] = 0;
@@ -388,7 +404,6 @@ impl WideConstraint {
                 &mut self.normal_y,
                 &mut self.friction,
                 &mut self.restitution,
-                &mut self.tangent_speed,
                 &mut self.bias_rate,
                 &mut self.mass_scale,
                 &mut self.impulse_scale,
@@ -415,6 +430,26 @@ impl WideConstraint {
         }
     }
 
+    /// Completes the constraint's surface materials after [`WideConstraint::finish`]: the
+    /// lanes that have none were not written, and get zeros (they then apply none).
+    pub fn finish_surface(&self, s: &mut WideSurface) {
+        if !(self.any_tangent_speed || self.any_rolling) {
+            return;
+        }
+        for l in 0..LANES {
+            if l >= self.lanes as usize || self.flags[l] & 48 == 0 {
+                for x in [
+                    &mut s.tangent_speed,
+                    &mut s.rolling_resistance,
+                    &mut s.rolling_mass,
+                    &mut s.rolling_impulse,
+                ] {
+                    x.as_mut_array()[l] = 0.0;
+                }
+            }
+        }
+    }
+
     /// Whether any lane bounces.
     pub fn any_restitution(&self) -> bool {
         self.any_restitution
@@ -430,9 +465,15 @@ impl WideConstraint {
         self.contact[lane]
     }
 
-    /// Calls `f(point, impulses)` for each point of lane `lane`.
+    /// Calls `f(point, impulses)` for each point of lane `lane`; `surface` is the
+    /// constraint's [`WideSurface`] where the world has one.
     #[inline]
-    pub fn lane_results(&self, lane: usize, mut f: impl FnMut(usize, &PointResult)) {
+    pub fn lane_results(
+        &self,
+        lane: usize,
+        surface: Option<&WideSurface>,
+        mut f: impl FnMut(usize, &PointResult),
+    ) {
         for (k, p) in self
             .points
             .iter()
@@ -446,11 +487,9 @@ impl WideConstraint {
                     tangent_impulse: p.tangent_impulse.as_array()[lane],
                     total_normal_impulse: p.total_normal_impulse.as_array()[lane],
                     relative_velocity: p.relative_velocity.as_array()[lane],
-                    rolling_impulse: if self.flags[lane] & 32 != 0 {
-                        self.rolling_impulse.as_array()[lane]
-                    } else {
-                        0.0
-                    },
+                    rolling_impulse: surface
+                        .filter(|_| self.flags[lane] & 32 != 0)
+                        .map(|s| s.rolling_impulse.as_array()[lane]),
                 },
             );
         }
@@ -611,25 +650,39 @@ macro_rules! dispatch {
     }};
 }
 
-/// Warm start: apply the accumulated impulses again.
-pub fn warm_start(constraints: &[WideConstraint], states: &BodyStates<'_>, use_avx: bool) {
+/// Warm start: apply the accumulated impulses again. `surfaces` is empty (a world without
+/// surface materials) or the constraints' own, one each.
+pub fn warm_start(
+    constraints: &[WideConstraint],
+    surfaces: &[WideSurface],
+    states: &BodyStates<'_>,
+    use_avx: bool,
+) {
     dispatch!(
         use_avx,
         warm_start_with,
         warm_start_avx2,
-        (constraints, states)
+        (constraints, surfaces, states)
     )
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn warm_start_avx2(constraints: &[WideConstraint], states: &BodyStates<'_>) {
-    warm_start_with::<Avx>(constraints, states)
+fn warm_start_avx2(
+    constraints: &[WideConstraint],
+    surfaces: &[WideSurface],
+    states: &BodyStates<'_>,
+) {
+    warm_start_with::<Avx>(constraints, surfaces, states)
 }
 
 #[inline(always)]
-fn warm_start_with<V: Lanes>(constraints: &[WideConstraint], states: &BodyStates<'_>) {
-    for c in constraints {
+fn warm_start_with<V: Lanes>(
+    constraints: &[WideConstraint],
+    surfaces: &[WideSurface],
+    states: &BodyStates<'_>,
+) {
+    for (k, c) in constraints.iter().enumerate() {
         let mut a = gather::<V>(states, &c.body_a);
         let mut b = gather::<V>(states, &c.body_b);
         let m = c.masses();
@@ -642,7 +695,7 @@ fn warm_start_with<V: Lanes>(constraints: &[WideConstraint], states: &BodyStates
             apply(m, &mut a, &mut b, &p.r.load(), px, py);
         }
         if c.any_rolling {
-            let rolling = V::load(c.rolling_impulse);
+            let rolling = V::load(surfaces[k].rolling_impulse);
             a.w -= m.ia * rolling;
             b.w += m.ib * rolling;
         }
@@ -651,9 +704,11 @@ fn warm_start_with<V: Lanes>(constraints: &[WideConstraint], states: &BodyStates
     }
 }
 
-/// One solve (`use_bias`) or relax pass; relax also solves friction.
+/// One solve (`use_bias`) or relax pass; relax also solves friction. `surfaces` as for
+/// [`warm_start`].
 pub fn solve(
     constraints: &mut [WideConstraint],
+    surfaces: &mut [WideSurface],
     states: &BodyStates<'_>,
     inv_h: f32,
     use_bias: bool,
@@ -664,7 +719,7 @@ pub fn solve(
         use_avx,
         solve_with,
         solve_avx2,
-        (constraints, states, inv_h, use_bias, max_push)
+        (constraints, surfaces, states, inv_h, use_bias, max_push)
     )
 }
 
@@ -672,17 +727,19 @@ pub fn solve(
 #[target_feature(enable = "avx2")]
 fn solve_avx2(
     constraints: &mut [WideConstraint],
+    surfaces: &mut [WideSurface],
     states: &BodyStates<'_>,
     inv_h: f32,
     use_bias: bool,
     max_push: f32,
 ) {
-    solve_with::<Avx>(constraints, states, inv_h, use_bias, max_push)
+    solve_with::<Avx>(constraints, surfaces, states, inv_h, use_bias, max_push)
 }
 
 #[inline(always)]
 fn solve_with<V: Lanes>(
     constraints: &mut [WideConstraint],
+    surfaces: &mut [WideSurface],
     states: &BodyStates<'_>,
     inv_h: f32,
     use_bias: bool,
@@ -692,7 +749,7 @@ fn solve_with<V: Lanes>(
     let neg_push = V::splat(-max_push);
     let zero = V::splat(0.0);
     let one = V::splat(1.0);
-    for c in constraints {
+    for (k, c) in constraints.iter_mut().enumerate() {
         let mut a = gather::<V>(states, &c.body_a);
         let mut b = gather::<V>(states, &c.body_b);
         let m = c.masses();
@@ -735,14 +792,15 @@ fn solve_with<V: Lanes>(
         // Rolling resistance (as the scalar `contact_solver::solve`): relax pass, before
         // friction.
         if !use_bias && c.any_rolling {
+            let s = &mut surfaces[k];
             let [p0, p1] = &c.points;
             let total = V::load(p0.normal_impulse) + V::load(p1.normal_impulse);
-            let delta = V::load(c.rolling_mass) * (a.w - b.w);
-            let max = V::load(c.rolling_resistance) * total;
-            let old = V::load(c.rolling_impulse);
+            let delta = V::load(s.rolling_mass) * (a.w - b.w);
+            let max = V::load(s.rolling_resistance) * total;
+            let old = V::load(s.rolling_impulse);
             let new_impulse = (old + delta).fast_min(max).fast_max(-max);
             let applied = new_impulse - old;
-            c.rolling_impulse = new_impulse.store();
+            s.rolling_impulse = new_impulse.store();
             a.w -= m.ia * applied;
             b.w += m.ib * applied;
         }
@@ -754,7 +812,7 @@ fn solve_with<V: Lanes>(
                 let (dvx, dvy) = relative_velocity(&a, &b, &r);
                 let mut vt = dvx * tx + dvy * ty;
                 if c.any_tangent_speed {
-                    vt -= V::load(c.tangent_speed);
+                    vt -= V::load(surfaces[k].tangent_speed);
                 }
                 let impulse = -V::load(p.tangent_mass) * vt;
                 let max_friction = friction * V::load(p.normal_impulse);

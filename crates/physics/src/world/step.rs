@@ -692,7 +692,9 @@ impl World {
                 mp.tangent_impulse = r.tangent_impulse;
                 mp.total_normal_impulse = r.total_normal_impulse;
                 mp.normal_velocity = r.relative_velocity;
-                contact.rolling_impulse = r.rolling_impulse;
+                if let Some(rolling) = r.rolling_impulse {
+                    contact.rolling_impulse = rolling;
+                }
             },
         );
         profile.store_impulses_ms = ms(t);
