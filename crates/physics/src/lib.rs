@@ -70,6 +70,7 @@ mod id;
 mod island;
 pub mod joint;
 mod math;
+pub mod mover;
 mod profile;
 mod scene;
 mod shape;

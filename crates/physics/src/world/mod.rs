@@ -22,6 +22,7 @@ mod forces;
 mod hooks;
 mod joint_state;
 mod joints;
+mod mover;
 mod query;
 mod read;
 mod settings;
