@@ -11,6 +11,15 @@ use crate::mover::{Plane, PlaneResult};
 use crate::shape::{Aabb, Capsule, Shape};
 use crate::world::QueryFilter;
 
+/// Whether a capsule can be a mover: finite, with a radius above 0 (Box2D asserts more than
+/// two linear slops; a thinner one still works here, it only snags sooner).
+fn usable(mover: &Capsule) -> bool {
+    mover.center1.is_finite()
+        && mover.center2.is_finite()
+        && mover.radius.is_finite()
+        && mover.radius > 0.0
+}
+
 /// The mover's queries.
 ///
 /// ```
@@ -44,9 +53,12 @@ impl World {
     /// How far along `translation` (0 to 1) the capsule `mover`, given in world coordinates,
     /// moves before it touches a shape that `filter` sees and that is not a sensor (Box2D's
     /// `b2World_CastMover`). A shape it overlaps at the start is ignored, so a mover resting
-    /// a slop inside the ground can walk off; 1 when it touches nothing (or a number is not
-    /// finite).
+    /// a slop inside the ground can walk off; 1 when it touches nothing, and for a capsule
+    /// that is not one (a radius not above 0, a number not finite).
     pub fn cast_mover(&self, mover: &Capsule, translation: Vec2, filter: &QueryFilter) -> f32 {
+        if !usable(mover) {
+            return 1.0;
+        }
         let filter = QueryFilter {
             sensors: false,
             ..*filter
@@ -74,15 +86,14 @@ impl World {
     /// slot order (Box2D's `b2World_CollideMover`). Each plane's normal points from the
     /// shape to the mover and its offset is how deep the mover is; a shape whose core the
     /// mover's segment crosses gives no normal and is left out, as Box2D does. Chains and
-    /// segments push from both sides.
+    /// segments push from both sides. None for a capsule that is not one (as
+    /// [`World::cast_mover`]).
     pub fn collide_mover(&self, mover: &Capsule, filter: &QueryFilter) -> Vec<PlaneResult> {
         let filter = QueryFilter {
             sensors: false,
             ..*filter
         };
-        let finite =
-            mover.center1.is_finite() && mover.center2.is_finite() && mover.radius.is_finite();
-        if !finite {
+        if !usable(mover) {
             return Vec::new();
         }
         let r = Vec2::splat(mover.radius);
@@ -247,8 +258,14 @@ mod tests {
         assert_eq!(f, 1.0);
         // A bad number is no hit, not a panic.
         let nan = capsule_at(Vec2::new(f32::NAN, 0.0));
-        assert_eq!(w.cast_mover(&nan, Vec2::X, &QueryFilter::default()), 1.0);
-        assert!(w.collide_mover(&nan, &QueryFilter::default()).is_empty());
+        let flat = Capsule {
+            radius: -0.1,
+            ..capsule_at(Vec2::new(0.0, -0.05))
+        };
+        for bad in [nan, flat] {
+            assert_eq!(w.cast_mover(&bad, Vec2::X, &QueryFilter::default()), 1.0);
+            assert!(w.collide_mover(&bad, &QueryFilter::default()).is_empty());
+        }
     }
 
     /// One frame of the mover as Box2D's character sample moves it: up to five rounds of
