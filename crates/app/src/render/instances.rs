@@ -365,18 +365,11 @@ impl DebugDraw for Painter<'_> {
         center1: Vec2,
         center2: Vec2,
         radius: f32,
-        _color: [f32; 4],
+        color: [f32; 4],
         shape: &ShapeDraw,
     ) {
-        let color = self.fill(shape);
-        let rotation = [transform.q.c, transform.q.s];
-        self.instances.polygons.push(polygon_instance(
-            transform.p.to_array(),
-            rotation,
-            color,
-            &[center1, center2],
-            radius,
-        ));
+        // A capsule is the polygon of its two centres, rounded: the same instance.
+        self.draw_polygon(transform, &[center1, center2], radius, color, shape);
     }
 
     fn draw_segment_shape(&mut self, p1: Vec2, p2: Vec2, _color: [f32; 4], shape: &ShapeDraw) {

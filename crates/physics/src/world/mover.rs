@@ -101,12 +101,7 @@ impl World {
             min: mover.center1.min(mover.center2) - r,
             max: mover.center1.max(mover.center2) + r,
         };
-        let mut candidates = Vec::new();
-        self.shapes_in_box(&aabb, &filter, |s| {
-            candidates.push(s);
-            true
-        });
-        candidates.sort_unstable();
+        let candidates = self.shapes_in_box_sorted(&aabb, &filter);
         let core = Proxy::points(&[mover.center1, mover.center2], 0.0, Transform::IDENTITY);
         let mut planes = Vec::new();
         for s in candidates {

@@ -158,6 +158,18 @@ impl World {
         }
     }
 
+    /// The slots of the shapes `filter` sees whose fat boxes overlap `aabb`, ascending (so a
+    /// query's results do not depend on the tree's shape).
+    pub(super) fn shapes_in_box_sorted(&self, aabb: &Aabb, filter: &QueryFilter) -> Vec<u32> {
+        let mut found = Vec::new();
+        self.shapes_in_box(aabb, filter, |s| {
+            found.push(s);
+            true
+        });
+        found.sort_unstable();
+        found
+    }
+
     /// Walks the tree with `walk` when it holds every proxy, then gives the proxies a query
     /// must test one by one: those moved since the tree's refit (`walk` skips them), or every
     /// shape slot when shapes were added or removed since it was built (and `walk` is not
@@ -318,12 +330,7 @@ impl World {
             q: pose.q,
         };
         let swept = shape.aabb(pose).union(&shape.aabb(end));
-        let mut candidates = Vec::new();
-        self.shapes_in_box(&swept, filter, |s| {
-            candidates.push(s);
-            true
-        });
-        candidates.sort_unstable();
+        let candidates = self.shapes_in_box_sorted(&swept, filter);
         let proxy = Proxy::of(shape, Transform::IDENTITY);
         let sweep = Sweep {
             c0: pose.p,
