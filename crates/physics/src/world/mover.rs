@@ -353,4 +353,69 @@ mod tests {
         // Two seconds at up to 2 m/s: well up the ramp.
         assert!(feet.x > 2.5 && feet.y > 0.8, "{feet}");
     }
+
+    #[test]
+    fn walking_at_a_low_step_rides_up_over_it() {
+        let mut w = ground();
+        // A step 5 cm high from x = 2 on: lower than the capsule's 30 cm radius, so its
+        // corner's plane leans back towards the mover and lifts it.
+        w.create_body(
+            &BodyDef::new(ShapeDef::Box {
+                half_extents: [4.0, 0.025],
+                radius: 0.0,
+            })
+            .kind(BodyKind::Static)
+            .at(6.0, 0.025),
+        )
+        .unwrap();
+        let dt = 1.0 / 60.0;
+        let (mut feet, mut v) = (Vec2::new(0.0, 0.0), Vec2::ZERO);
+        for _ in 0..120 {
+            v = Vec2::new(2.0, v.y - 10.0 * dt);
+            (feet, v) = move_frame(&w, feet, v, dt);
+        }
+        // On top of it, a slop inside its top face (0.05), and on its way.
+        assert!(feet.x > 3.0, "{feet}");
+        assert!((feet.y - 0.05).abs() <= crate::LINEAR_SLOP + 1e-4, "{feet}");
+    }
+
+    #[test]
+    fn a_mover_standing_on_a_moving_platform_rides_it_by_the_plane_s_body() {
+        let mut w = ground();
+        // A kinematic platform 1 m up, moving right at 1.5 m/s.
+        let platform = w
+            .create_body(
+                &BodyDef::new(ShapeDef::Box {
+                    half_extents: [1.5, 0.1],
+                    radius: 0.0,
+                })
+                .kind(BodyKind::Kinematic)
+                .at(0.0, 0.9)
+                .velocity(1.5, 0.0),
+            )
+            .unwrap();
+        let dt = 1.0 / 60.0;
+        let mut feet = Vec2::new(0.0, 1.0);
+        let mut v = Vec2::ZERO;
+        for _ in 0..60 {
+            // The game's rule, as Box2D's sample has it: standing on a body, the mover takes
+            // its velocity (here only the platform moves), plus its own fall.
+            let filter = QueryFilter::default();
+            let under = w
+                .collide_mover(&capsule_at(feet - Vec2::new(0.0, 0.01)), &filter)
+                .into_iter()
+                .find(|r| r.plane.normal.y > 0.7);
+            let carried = under
+                .and_then(|r| w.body(r.shape.body).ok())
+                .map_or(Vec2::ZERO, |b| b.linear_velocity);
+            v = Vec2::new(carried.x, v.y - 10.0 * dt);
+            (feet, v) = move_frame(&w, feet, v, dt);
+            w.step(dt, 4);
+            assert_eq!(under.map(|r| r.shape.body), Some(platform));
+        }
+        // A second on it: carried 1.5 m with it, still standing on its top (y = 1).
+        let on = w.body(platform).unwrap().position;
+        assert!((feet.x - on.x).abs() < 0.05, "{feet} on {on}");
+        assert!((feet.y - 1.0).abs() < 0.01, "{feet}");
+    }
 }
