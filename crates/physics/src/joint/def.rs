@@ -346,6 +346,47 @@ pub struct JointFrame {
     pub dynamic: bool,
 }
 
+/// Binds `$force` and `$torque` to a joint definition's two threshold fields (by reference,
+/// shared or mutable as `$def` is) and evaluates `$body`; a filter joint, which has none,
+/// gives `$filter`. One list of the variants for the getter and the builder.
+macro_rules! threshold_fields {
+    ($def:expr, |$force:ident, $torque:ident| $body:expr, $filter:expr) => {
+        match $def {
+            JointDef::Revolute {
+                force_threshold: $force,
+                torque_threshold: $torque,
+                ..
+            }
+            | JointDef::Prismatic {
+                force_threshold: $force,
+                torque_threshold: $torque,
+                ..
+            }
+            | JointDef::Wheel {
+                force_threshold: $force,
+                torque_threshold: $torque,
+                ..
+            }
+            | JointDef::Distance {
+                force_threshold: $force,
+                torque_threshold: $torque,
+                ..
+            }
+            | JointDef::Weld {
+                force_threshold: $force,
+                torque_threshold: $torque,
+                ..
+            }
+            | JointDef::Motor {
+                force_threshold: $force,
+                torque_threshold: $torque,
+                ..
+            } => $body,
+            JointDef::Filter { .. } => $filter,
+        }
+    };
+}
+
 impl JointDef {
     /// A plain hinge between `bodies` at `anchor` (world): no limit, motor or spring, the
     /// bodies kept apart.
@@ -366,80 +407,24 @@ impl JointDef {
     /// The reaction force (N) and torque (N·m) past which the joint reports
     /// [`crate::Event::JointThreshold`] (infinite: never; a filter joint never does).
     pub fn thresholds(&self) -> (f32, f32) {
-        match self {
-            JointDef::Revolute {
-                force_threshold,
-                torque_threshold,
-                ..
-            }
-            | JointDef::Prismatic {
-                force_threshold,
-                torque_threshold,
-                ..
-            }
-            | JointDef::Wheel {
-                force_threshold,
-                torque_threshold,
-                ..
-            }
-            | JointDef::Distance {
-                force_threshold,
-                torque_threshold,
-                ..
-            }
-            | JointDef::Weld {
-                force_threshold,
-                torque_threshold,
-                ..
-            }
-            | JointDef::Motor {
-                force_threshold,
-                torque_threshold,
-                ..
-            } => (*force_threshold, *torque_threshold),
-            JointDef::Filter { .. } => (f32::INFINITY, f32::INFINITY),
-        }
+        threshold_fields!(
+            self,
+            |force, torque| (*force, *torque),
+            (f32::INFINITY, f32::INFINITY)
+        )
     }
 
     /// The same joint reporting past `force` (N) and `torque` (N·m) (see
     /// [`JointDef::thresholds`]; a filter joint has none to set).
     pub fn with_thresholds(mut self, force: f32, torque: f32) -> JointDef {
-        match &mut self {
-            JointDef::Revolute {
-                force_threshold,
-                torque_threshold,
-                ..
-            }
-            | JointDef::Prismatic {
-                force_threshold,
-                torque_threshold,
-                ..
-            }
-            | JointDef::Wheel {
-                force_threshold,
-                torque_threshold,
-                ..
-            }
-            | JointDef::Distance {
-                force_threshold,
-                torque_threshold,
-                ..
-            }
-            | JointDef::Weld {
-                force_threshold,
-                torque_threshold,
-                ..
-            }
-            | JointDef::Motor {
-                force_threshold,
-                torque_threshold,
-                ..
-            } => {
+        threshold_fields!(
+            &mut self,
+            |force_threshold, torque_threshold| {
                 *force_threshold = force;
                 *torque_threshold = torque;
-            }
-            JointDef::Filter { .. } => {}
-        }
+            },
+            ()
+        );
         self
     }
 
