@@ -10,11 +10,14 @@
 //! (`compounds`, `junkyard`) put them on one body as Box2D does. tumble has no segments yet,
 //! so a segment becomes a thin box whose face lies on the segment (see [`segment`]).
 
+pub mod platformer;
 pub mod rain;
 
 use std::f32::consts::PI;
 
 use tumble_physics::joint::AngularMotor;
+
+use crate::sample::{Category, Controller};
 use tumble_physics::{BodyDef, BodyId, BodyKind, Filter, JointDef, PartDef, SceneDef, ShapeDef};
 
 /// One built-in scene, declared once: [`BUILTINS`] is the one list of them, and every
@@ -33,6 +36,12 @@ struct Builtin {
     script: Option<Script>,
     /// A one- or two-sentence menu description ([`describe`]).
     description: &'static str,
+    /// Where the sample browser lists it.
+    category: Category,
+    /// The keys it reads and what each does, shown while it runs ([`keys`]).
+    keys: &'static [(&'static str, &'static str)],
+    /// Makes the controller of a sample a person plays ([`controller`]).
+    controller: Option<fn() -> Controller>,
 }
 
 /// Every built-in scene, in menu order: a friendly default first, then the hard cases, then
@@ -40,6 +49,9 @@ struct Builtin {
 const BUILTINS: &[Builtin] = &[
     Builtin {
         name: "falling_circles",
+        category: Category::Stacking,
+        keys: &[],
+        controller: None,
         build: falling_circles,
         sleeps: false,
         script: None,
@@ -48,6 +60,9 @@ const BUILTINS: &[Builtin] = &[
     },
     Builtin {
         name: "pyramid",
+        category: Category::Stacking,
+        keys: &[],
+        controller: None,
         build: pyramid,
         sleeps: false,
         script: None,
@@ -56,6 +71,9 @@ const BUILTINS: &[Builtin] = &[
     },
     Builtin {
         name: "vertical_stack",
+        category: Category::Stacking,
+        keys: &[],
+        controller: None,
         build: vertical_stack,
         sleeps: false,
         script: None,
@@ -64,6 +82,9 @@ const BUILTINS: &[Builtin] = &[
     },
     Builtin {
         name: "card_house",
+        category: Category::Stacking,
+        keys: &[],
+        controller: None,
         build: card_house,
         sleeps: false,
         script: None,
@@ -72,6 +93,9 @@ const BUILTINS: &[Builtin] = &[
     },
     Builtin {
         name: "arch",
+        category: Category::Stacking,
+        keys: &[],
+        controller: None,
         build: arch,
         sleeps: false,
         script: None,
@@ -80,6 +104,9 @@ const BUILTINS: &[Builtin] = &[
     },
     Builtin {
         name: "friction_ramp",
+        category: Category::Shapes,
+        keys: &[],
+        controller: None,
         build: friction_ramp,
         sleeps: false,
         script: None,
@@ -88,6 +115,9 @@ const BUILTINS: &[Builtin] = &[
     },
     Builtin {
         name: "mass_ratio",
+        category: Category::Robustness,
+        keys: &[],
+        controller: None,
         build: mass_ratio,
         sleeps: false,
         script: None,
@@ -96,6 +126,9 @@ const BUILTINS: &[Builtin] = &[
     },
     Builtin {
         name: "overlap_recovery",
+        category: Category::Robustness,
+        keys: &[],
+        controller: None,
         build: overlap_recovery,
         sleeps: false,
         script: None,
@@ -104,6 +137,9 @@ const BUILTINS: &[Builtin] = &[
     },
     Builtin {
         name: "confined",
+        category: Category::Robustness,
+        keys: &[],
+        controller: None,
         build: confined,
         sleeps: false,
         script: None,
@@ -112,6 +148,9 @@ const BUILTINS: &[Builtin] = &[
     },
     Builtin {
         name: "far_from_origin",
+        category: Category::Robustness,
+        keys: &[],
+        controller: None,
         build: far_from_origin,
         sleeps: false,
         script: None,
@@ -120,6 +159,9 @@ const BUILTINS: &[Builtin] = &[
     },
     Builtin {
         name: "mass_ratio_columns",
+        category: Category::Robustness,
+        keys: &[],
+        controller: None,
         build: mass_ratio_columns,
         sleeps: false,
         script: None,
@@ -128,6 +170,9 @@ const BUILTINS: &[Builtin] = &[
     },
     Builtin {
         name: "friction_incline",
+        category: Category::Shapes,
+        keys: &[],
+        controller: None,
         build: friction_incline,
         sleeps: false,
         script: None,
@@ -136,6 +181,9 @@ const BUILTINS: &[Builtin] = &[
     },
     Builtin {
         name: "restitution_drop",
+        category: Category::Continuous,
+        keys: &[],
+        controller: None,
         build: restitution_drop,
         sleeps: false,
         script: None,
@@ -144,6 +192,9 @@ const BUILTINS: &[Builtin] = &[
     },
     Builtin {
         name: "elastic_box",
+        category: Category::Continuous,
+        keys: &[],
+        controller: None,
         build: elastic_box,
         sleeps: false,
         script: None,
@@ -152,6 +203,9 @@ const BUILTINS: &[Builtin] = &[
     },
     Builtin {
         name: "large_pyramid",
+        category: Category::Benchmark,
+        keys: &[],
+        controller: None,
         build: large_pyramid,
         sleeps: false,
         script: None,
@@ -160,6 +214,9 @@ const BUILTINS: &[Builtin] = &[
     },
     Builtin {
         name: "pyramid_200",
+        category: Category::Stacking,
+        keys: &[],
+        controller: None,
         build: pyramid_200,
         sleeps: false,
         script: None,
@@ -168,6 +225,9 @@ const BUILTINS: &[Builtin] = &[
     },
     Builtin {
         name: "many_pyramids",
+        category: Category::Benchmark,
+        keys: &[],
+        controller: None,
         build: many_pyramids,
         sleeps: false,
         script: None,
@@ -176,6 +236,9 @@ const BUILTINS: &[Builtin] = &[
     },
     Builtin {
         name: "smash",
+        category: Category::Benchmark,
+        keys: &[],
+        controller: None,
         build: smash,
         sleeps: true,
         script: None,
@@ -184,6 +247,9 @@ const BUILTINS: &[Builtin] = &[
     },
     Builtin {
         name: "tumbler",
+        category: Category::Benchmark,
+        keys: &[],
+        controller: None,
         build: tumbler,
         sleeps: true,
         script: None,
@@ -192,6 +258,9 @@ const BUILTINS: &[Builtin] = &[
     },
     Builtin {
         name: "compounds",
+        category: Category::Benchmark,
+        keys: &[],
+        controller: None,
         build: compounds,
         sleeps: true,
         script: None,
@@ -200,6 +269,9 @@ const BUILTINS: &[Builtin] = &[
     },
     Builtin {
         name: "junkyard",
+        category: Category::Benchmark,
+        keys: &[],
+        controller: None,
         build: junkyard,
         sleeps: true,
         script: Some(junkyard_step),
@@ -208,6 +280,9 @@ const BUILTINS: &[Builtin] = &[
     },
     Builtin {
         name: "spinner",
+        category: Category::Benchmark,
+        keys: &[],
+        controller: None,
         build: spinner,
         sleeps: true,
         script: None,
@@ -217,6 +292,9 @@ const BUILTINS: &[Builtin] = &[
     },
     Builtin {
         name: "joint_grid",
+        category: Category::Benchmark,
+        keys: &[],
+        controller: None,
         build: joint_grid,
         sleeps: false,
         script: None,
@@ -225,6 +303,9 @@ const BUILTINS: &[Builtin] = &[
     },
     Builtin {
         name: "ball_and_chain",
+        category: Category::Joints,
+        keys: &[],
+        controller: None,
         build: ball_and_chain,
         sleeps: false,
         script: None,
@@ -233,6 +314,9 @@ const BUILTINS: &[Builtin] = &[
     },
     Builtin {
         name: "bridge",
+        category: Category::Joints,
+        keys: &[],
+        controller: None,
         build: bridge,
         sleeps: false,
         script: None,
@@ -241,6 +325,9 @@ const BUILTINS: &[Builtin] = &[
     },
     Builtin {
         name: "stretched_chain",
+        category: Category::Joints,
+        keys: &[],
+        controller: None,
         build: stretched_chain,
         sleeps: false,
         script: None,
@@ -249,6 +336,9 @@ const BUILTINS: &[Builtin] = &[
     },
     Builtin {
         name: "ragdoll",
+        category: Category::Joints,
+        keys: &[],
+        controller: None,
         build: ragdoll,
         sleeps: false,
         script: None,
@@ -257,6 +347,9 @@ const BUILTINS: &[Builtin] = &[
     },
     Builtin {
         name: "rain",
+        category: Category::Benchmark,
+        keys: &[],
+        controller: None,
         build: rain::scene,
         sleeps: true,
         script: Some(rain::step),
@@ -265,13 +358,32 @@ const BUILTINS: &[Builtin] = &[
     },
     Builtin {
         name: "washer",
+        category: Category::Benchmark,
+        keys: &[],
+        controller: None,
         build: washer,
         sleeps: true,
         script: None,
         description: "Benchmark: 8100 small boxes tumble in a 36 m drum of 40 shapes, one kinematic body turning at 25 deg/s (Box2D's washer, hit events on). \
             Tests a kinematic body of many shapes stirring a dense pile, with the contacts that begin every step reported as events.",
     },
+    Builtin {
+        name: "platformer",
+        build: platformer::scene,
+        sleeps: true,
+        script: None,
+        description: "A level to play: walk with Left and Right (or A and D), jump with Space. Ramps, steps, a conveyor belt, boxes to push, a rope bridge whose hinges break under a heavy crate, a pit with a one-way platform, an elevator, three coins and a flag. \
+            The character is Box2D's geometric mover: a capsule moved by the mover calls, standing on a spring.",
+        category: Category::Character,
+        keys: platformer::KEYS,
+        controller: Some(platformer_controller),
+    },
 ];
+
+/// The platformer's controller, at its start.
+fn platformer_controller() -> Controller {
+    Controller::Platformer(Box::default())
+}
 
 /// The names of [`BUILTINS`], in its order.
 const NAMES: [&str; BUILTINS.len()] = {
@@ -319,6 +431,22 @@ pub fn script(name: &str) -> Option<Script> {
 pub fn script_for(scene: &SceneDef) -> Option<Script> {
     let script = script(&scene.name)?;
     (build(&scene.name)? == *scene).then_some(script)
+}
+
+/// Where the sample browser lists the named built-in.
+pub fn category(name: &str) -> Option<Category> {
+    Some(find(name)?.category)
+}
+
+/// The keys the named built-in reads, with what each does (none for most).
+pub fn keys(name: &str) -> &'static [(&'static str, &'static str)] {
+    find(name).map_or(&[], |b| b.keys)
+}
+
+/// Makes the controller of the named built-in, if a person plays it (see
+/// [`Controller::for_scene`], which also checks the scene is the built-in's).
+pub fn controller(name: &str) -> Option<fn() -> Controller> {
+    find(name)?.controller
 }
 
 /// A one- or two-sentence menu description of the named scene.
@@ -1698,7 +1826,7 @@ mod tests {
 
     #[test]
     fn every_name_builds_describes_and_validates() {
-        assert_eq!(names().len(), 29);
+        assert_eq!(names().len(), 30);
         for &name in names() {
             let scene = build(name).unwrap_or_else(|| panic!("{name} does not build"));
             assert_eq!(scene.name, name);
@@ -1745,6 +1873,10 @@ mod tests {
             assert_eq!(describe(name), Some(b.description));
             assert!(!b.description.is_empty(), "{name}");
             assert_eq!(script(name).is_some(), b.script.is_some(), "{name}");
+            assert_eq!(category(name), Some(b.category), "{name}");
+            assert_eq!(keys(name), b.keys, "{name}");
+            // A sample a person plays says which keys it reads.
+            assert_eq!(controller(name).is_some(), !b.keys.is_empty(), "{name}");
             // Sleeping is on exactly where the row says so.
             assert_eq!(build(name).unwrap().sleep, b.sleeps, "{name}");
         }
@@ -1753,7 +1885,8 @@ mod tests {
             .filter(|b| b.sleeps)
             .map(|b| b.name)
             .collect();
-        // Box2D's benchmark keeps sleeping on in these; every other built-in runs awake.
+        // Box2D's benchmark keeps sleeping on in these, and a game level does; every other
+        // built-in runs awake.
         assert_eq!(
             sleeping,
             [
@@ -1763,7 +1896,8 @@ mod tests {
                 "junkyard",
                 "spinner",
                 "rain",
-                "washer"
+                "washer",
+                "platformer"
             ]
         );
         let scripted: Vec<_> = BUILTINS

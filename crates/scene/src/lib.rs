@@ -8,6 +8,7 @@
 
 pub mod builtin;
 pub mod cli;
+pub mod sample;
 
 use std::fmt;
 use std::fs::File;
