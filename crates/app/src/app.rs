@@ -204,7 +204,9 @@ pub fn prepare(options: Options, platform: Platform) -> Result<(EventLoop<()>, A
 fn initial_machine(options: &Options, shared: &mut Shared) -> Result<StateMachine> {
     Ok(match &options.scene {
         Some(scene) => {
-            let sim = Sim::new(Arc::clone(scene), shared.settings.threads)?;
+            let mut sim = Sim::new(Arc::clone(scene), shared.settings.threads)?;
+            sim.key_script = options.keys.clone();
+            sim.step_limit = options.steps;
             StateMachine::new(Box::new(Simulation::new(sim, shared)))
         }
         None => StateMachine::new(Box::new(Intro::new(shared))),
@@ -573,7 +575,11 @@ impl App {
         let primitives = self.egui.tessellate(full.shapes, full.pixels_per_point);
         let mut textures = full.textures_delta;
 
-        let last_scripted = self.options.frames == Some(self.frames + 1);
+        let steps_done = self
+            .options
+            .steps
+            .is_some_and(|n| self.machine.sim().is_some_and(|s| s.steps >= n));
+        let last_scripted = self.options.frames == Some(self.frames + 1) || steps_done;
         let scripted_capture = last_scripted && self.options.screenshot.is_some();
         let capture = force_capture || scripted_capture || self.shared.toggles.screenshot_requested;
         let view = self.machine.view();
@@ -624,9 +630,19 @@ impl App {
             };
             on_frame(&report);
         }
-        if self.quit_requested() || self.options.frames.is_some_and(|n| self.frames >= n) {
+        if self.quit_requested()
+            || self.options.frames.is_some_and(|n| self.frames >= n)
+            || self.steps_done()
+        {
             event_loop.exit();
         }
+    }
+
+    /// Whether `--steps` was given and the simulation has taken them.
+    fn steps_done(&self) -> bool {
+        self.options
+            .steps
+            .is_some_and(|n| self.machine.sim().is_some_and(|s| s.steps >= n))
     }
 
     /// Whether the app should end now: a state asked to, and the platform allows it.
@@ -733,6 +749,8 @@ impl App {
             size: [width, height],
             state_hash: sim.map_or_else(String::new, |s| format!("{:016x}", s.world.state_hash())),
             non_finite_bodies: sim.map_or(0, |s| s.world.non_finite_bodies()),
+            scene_steps: sim.map_or(0, |s| s.steps),
+            sample: sim.and_then(|s| s.controller.clone()),
         }
     }
 }

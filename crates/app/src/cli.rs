@@ -9,6 +9,7 @@ use clap::Parser;
 use serde::Serialize;
 use tumble_physics::SceneDef;
 use tumble_scene::LoadLimits;
+use tumble_scene::sample::KeyScript;
 
 /// tumble, a 2D rigid-body physics engine: the desktop viewer.
 ///
@@ -48,6 +49,20 @@ pub struct Cli {
     /// Do not wait for the display's refresh (to measure frame times).
     #[arg(long)]
     pub no_vsync: bool,
+    /// Keys for a played sample, by step: `STEP:KEY+` (down) or `STEP:KEY-` (up), separated
+    /// by commas, KEY one of left, right, jump, down (e.g. `0:right+,266:jump+,270:jump-`).
+    /// Steps, not frames: the run is the same whatever the frame rate.
+    #[arg(long, value_name = "SCRIPT")]
+    pub keys: Option<String>,
+    /// Stop the simulation at S steps since the scene started and exit once there (the
+    /// screenshot and stats are of that step).
+    #[arg(
+        long,
+        value_name = "S",
+        allow_negative_numbers = true,
+        value_parser = clap::value_parser!(u64).range(1..)
+    )]
+    pub steps: Option<u64>,
 }
 
 /// What the app runs with, checked.
@@ -65,6 +80,10 @@ pub struct Options {
     pub stats: Option<PathBuf>,
     /// Vsync off, whatever the settings say.
     pub no_vsync: bool,
+    /// Scripted keys for a played sample.
+    pub keys: Option<KeyScript>,
+    /// Steps to stop and exit at.
+    pub steps: Option<u64>,
     /// Load and save the user's settings file (not for scripted runs, which must not depend on
     /// or change what a person set).
     pub persist: bool,
@@ -86,7 +105,17 @@ impl Cli {
                 check_writable_parent(flag, path)?;
             }
         }
-        let scripted = self.frames.is_some();
+        let keys = match &self.keys {
+            Some(text) => Some(KeyScript::parse(text).map_err(|e| anyhow::anyhow!("--keys: {e}"))?),
+            None => None,
+        };
+        if keys.is_some() && self.scene.is_none() {
+            bail!("--keys: give the scene that reads them with --scene (e.g. --scene platformer)");
+        }
+        if self.steps.is_some() && self.scene.is_none() {
+            bail!("--steps: give the scene to run with --scene");
+        }
+        let scripted = self.frames.is_some() || self.steps.is_some();
         Ok(Options {
             scene,
             threads: self.threads.map(|t| t as usize),
@@ -94,6 +123,8 @@ impl Cli {
             screenshot: self.screenshot,
             stats: self.stats,
             no_vsync: self.no_vsync,
+            keys,
+            steps: self.steps,
             persist: !scripted,
         })
     }
@@ -144,6 +175,10 @@ pub struct Stats {
     pub size: [u32; 2],
     /// The world's state hash at exit, hex.
     pub state_hash: String,
+    /// Steps since the scene (re)started.
+    pub scene_steps: u64,
+    /// A played sample's state at exit (the platformer's character and score), if any.
+    pub sample: Option<tumble_scene::sample::Controller>,
     /// Bodies the step's NaN guard stopped since the scene started (0 in a healthy run):
     /// such a body keeps its last finite pose, so only this count tells.
     pub non_finite_bodies: u64,

@@ -42,8 +42,18 @@ pub enum Key {
     Delete,
     /// Menu selection up.
     ArrowUp,
-    /// Menu selection down.
+    /// Menu selection down; in a played sample, down.
     ArrowDown,
+    /// In a played sample: left.
+    ArrowLeft,
+    /// In a played sample: right.
+    ArrowRight,
+    /// In a played sample: left.
+    A,
+    /// In a played sample: right.
+    D,
+    /// In a played sample: jump.
+    W,
     /// Any other key: it still skips the intro.
     Other,
 }
@@ -197,6 +207,11 @@ fn key_from_code(code: KeyCode) -> Key {
         KeyCode::Delete => Key::Delete,
         KeyCode::ArrowUp => Key::ArrowUp,
         KeyCode::ArrowDown => Key::ArrowDown,
+        KeyCode::ArrowLeft => Key::ArrowLeft,
+        KeyCode::ArrowRight => Key::ArrowRight,
+        KeyCode::KeyA => Key::A,
+        KeyCode::KeyD => Key::D,
+        KeyCode::KeyW => Key::W,
         _ => Key::Other,
     }
 }

@@ -22,6 +22,7 @@ use tumble_physics::{
 };
 use tumble_scene::LoadLimits;
 use tumble_scene::builtin::Script;
+use tumble_scene::sample::{Controller, KeyScript, Keys};
 
 /// The longest frame the clock accepts (s): a frame that took longer (a window drag, a
 /// debugger) counts as this long, so the simulation does not leap ahead.
@@ -186,6 +187,8 @@ pub const REPLAY_BYTES: usize = 192 << 20;
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct StepInput {
     drag: Option<Drag>,
+    /// The keys a sample read (none for a scene without a controller).
+    keys: Keys,
     substeps: u32,
     settings: StepSettings,
 }
@@ -251,7 +254,7 @@ impl Edit {
 pub struct Recording {
     /// `(steps since the world was built, the world then)`, oldest first. A snapshot of
     /// step `s` is taken before the edits made before step `s`.
-    snapshots: VecDeque<(u64, WorldSnapshot)>,
+    snapshots: VecDeque<(u64, WorldSnapshot, Option<Controller>)>,
     /// The input of each step from the oldest snapshot on, in order.
     inputs: VecDeque<StepInput>,
     /// `(the step it came before, the edit)`, from the oldest snapshot on, in order made.
@@ -270,8 +273,15 @@ impl Recording {
     }
 
     /// Called before step `step` (counted from the build) is taken.
-    fn record(&mut self, step: u64, world: &World, input: StepInput, steps_per_snapshot: u64) {
-        self.snapshot_if_due(step, world, steps_per_snapshot);
+    fn record(
+        &mut self,
+        step: u64,
+        world: &World,
+        controller: Option<&Controller>,
+        input: StepInput,
+        steps_per_snapshot: u64,
+    ) {
+        self.snapshot_if_due(step, world, controller, steps_per_snapshot);
         self.inputs.push_back(input);
     }
 
@@ -293,19 +303,26 @@ impl Recording {
 
     /// Takes the snapshot of step `step` if one is due and not taken yet; drops what is
     /// older than the replay keeps.
-    fn snapshot_if_due(&mut self, step: u64, world: &World, steps_per_snapshot: u64) {
+    fn snapshot_if_due(
+        &mut self,
+        step: u64,
+        world: &World,
+        controller: Option<&Controller>,
+        steps_per_snapshot: u64,
+    ) {
         let due = step.is_multiple_of(steps_per_snapshot) || self.snapshots.is_empty();
-        if due && self.snapshots.back().is_none_or(|&(s, _)| s != step) {
+        if due && self.snapshots.back().is_none_or(|&(s, ..)| s != step) {
             let snapshot = world.snapshot();
             self.bytes += snapshot.approx_bytes();
-            self.snapshots.push_back((step, snapshot));
+            self.snapshots
+                .push_back((step, snapshot, controller.cloned()));
             // One snapshot a second: REPLAY_SECONDS of them, plus the one the oldest second
             // starts from.
             let keep = REPLAY_SECONDS as usize + 1;
             while self.snapshots.len() > keep
                 || (self.bytes > REPLAY_BYTES && self.snapshots.len() > 2)
             {
-                let (_, old) = self.snapshots.pop_front().expect("more than two");
+                let (_, old, _) = self.snapshots.pop_front().expect("more than two");
                 self.bytes -= old.approx_bytes();
                 let first = self.snapshots.front().expect("one left").0;
                 let drop = self.inputs.len() - (step - first) as usize;
@@ -320,11 +337,11 @@ impl Recording {
     /// Forgets everything from step `step` on (the replay was stopped there: the future
     /// recorded beyond it will not happen now).
     fn truncate_at(&mut self, step: u64) {
-        while self.snapshots.back().is_some_and(|&(s, _)| s > step) {
-            let (_, old) = self.snapshots.pop_back().expect("checked");
+        while self.snapshots.back().is_some_and(|&(s, ..)| s > step) {
+            let (_, old, _) = self.snapshots.pop_back().expect("checked");
             self.bytes -= old.approx_bytes();
         }
-        let first = self.snapshots.front().map_or(step, |&(s, _)| s);
+        let first = self.snapshots.front().map_or(step, |&(s, ..)| s);
         self.inputs.truncate(step.saturating_sub(first) as usize);
         // The edits before step `step` were not made again yet (a replayed step makes them
         // first): they belong to the forgotten future too.
@@ -359,6 +376,9 @@ pub struct SavedWorld {
     pub substeps: u32,
     /// The world.
     pub world: WorldSnapshot,
+    /// A played sample's state beside the world (its character, its score).
+    #[serde(default)]
+    pub controller: Option<Controller>,
 }
 
 impl SavedWorld {
@@ -421,6 +441,14 @@ pub struct Sim {
     pub events: EventLog,
     /// The ray tool's ray (from, to), drawn with its hits.
     pub ray: Option<(Vec2, Vec2)>,
+    /// A played sample's controller (the platformer's character), if the scene has one.
+    pub controller: Option<Controller>,
+    /// The keys the person holds now (what the controller reads at the next step).
+    pub keys: Keys,
+    /// Keys scripted by step (`--keys`, the page's `keys=`): they replace the live keys.
+    pub key_script: Option<KeyScript>,
+    /// Stop stepping at this many steps since the scene started (`--steps`).
+    pub step_limit: Option<u64>,
 }
 
 /// The last [`EventLog::CAPACITY`] events of a run, each with the step it came in (counted
@@ -488,8 +516,14 @@ impl Sim {
             script: None,
             events: EventLog::default(),
             ray: None,
+            controller: None,
+            keys: Keys::NONE,
+            key_script: None,
+            step_limit: None,
         };
         sim.script = tumble_scene::builtin::script_for(&sim.scene);
+        let controller = Controller::for_scene(&sim.scene);
+        sim.set_controller(controller);
         sim.metrics = crate::metrics::Metrics::new(&sim.scene, &sim.world);
         sim.set_threads(threads);
         Ok(sim)
@@ -536,6 +570,17 @@ impl Sim {
         self.replay = None;
         self.events = EventLog::default();
         self.metrics = crate::metrics::Metrics::new(&self.scene, &self.world);
+        self.keys = Keys::NONE;
+        let controller = Controller::for_scene(&self.scene);
+        self.set_controller(controller);
+    }
+
+    /// Puts in a sample's controller (or none) and sets the world's hooks it needs.
+    fn set_controller(&mut self, controller: Option<Controller>) {
+        if let Some(c) = &controller {
+            c.install(&mut self.world);
+        }
+        self.controller = controller;
     }
 
     /// Goes back to the oldest second the recording holds (up to [`REPLAY_SECONDS`]) and
@@ -544,10 +589,11 @@ impl Sim {
     /// recorded yet.
     pub fn start_replay(&mut self) -> bool {
         let until = self.replay.map_or(self.steps, |r| r.until);
-        let Some((from, snapshot)) = self.recording.snapshots.front() else {
+        let Some((from, snapshot, controller)) = self.recording.snapshots.front() else {
             return false;
         };
         let from = *from;
+        let controller = controller.clone();
         if from >= until {
             return false;
         }
@@ -556,6 +602,7 @@ impl Sim {
             return false;
         };
         self.install_world(world, from);
+        self.set_controller(controller);
         self.replay = Some(Replay { until, from });
         true
     }
@@ -576,6 +623,7 @@ impl Sim {
             steps: self.steps,
             substeps: self.substeps,
             world: self.world.snapshot(),
+            controller: self.controller.clone(),
         }
     }
 
@@ -594,6 +642,10 @@ impl Sim {
             self.script = tumble_scene::builtin::script_for(&self.scene);
         }
         self.install_world(world, saved.steps);
+        let controller = saved
+            .controller
+            .or_else(|| Controller::for_scene(&self.scene).filter(|_| saved.steps == 0));
+        self.set_controller(controller);
         self.substeps = saved.substeps;
         self.history.clear();
         self.recording.clear();
@@ -623,7 +675,10 @@ impl Sim {
             self.clock.reset();
             return 0;
         }
-        let steps = self.clock.advance(frame_seconds);
+        let mut steps = self.clock.advance(frame_seconds);
+        if let Some(limit) = self.step_limit {
+            steps = steps.min(limit.saturating_sub(self.steps).min(u64::from(u32::MAX)) as u32);
+        }
         for _ in 0..steps {
             self.step_once();
         }
@@ -658,7 +713,7 @@ impl Sim {
         let input = match self.replay {
             Some(replay) => {
                 self.replay_edits(self.steps);
-                let first = self.recording.snapshots.front().map_or(0, |&(s, _)| s);
+                let first = self.recording.snapshots.front().map_or(0, |&(s, ..)| s);
                 let recorded = self.recording.inputs[(self.steps - first) as usize];
                 if self.steps + 1 >= replay.until {
                     // This is the last replayed step: live from the next one on.
@@ -671,14 +726,25 @@ impl Sim {
             }
             None => {
                 // Live edits were made when asked (see [`Sim::edit`]); only recorded here.
+                let keys = match &self.key_script {
+                    Some(script) => script.keys_at(self.steps, self.keys),
+                    None => self.keys,
+                };
+                self.keys = keys;
                 let input = StepInput {
                     drag: self.drag,
+                    keys,
                     substeps: self.substeps.max(1),
                     settings: *self.world.settings(),
                 };
                 let per_snapshot = self.steps_per_snapshot();
-                self.recording
-                    .record(self.steps, &self.world, input, per_snapshot);
+                self.recording.record(
+                    self.steps,
+                    &self.world,
+                    self.controller.as_ref(),
+                    input,
+                    per_snapshot,
+                );
                 input
             }
         };
@@ -687,7 +753,13 @@ impl Sim {
             self.events.record(&self.world, self.steps + 1);
         }
         self.mouse = sync_mouse(&mut self.world, self.mouse, input.drag);
+        if let Some(c) = &mut self.controller {
+            c.before_step(self.steps, input.keys, &mut self.world);
+        }
         self.world.step(dt, input.substeps);
+        if let Some(c) = &mut self.controller {
+            c.after_step(self.steps, &mut self.world);
+        }
         self.steps += 1;
         self.events.record(&self.world, self.steps);
         if replay_ends {
@@ -730,8 +802,12 @@ impl Sim {
         let per_snapshot = self.steps_per_snapshot();
         // The snapshot due at this step must not show the edit: taken first (a refused edit
         // changes nothing, so it is right then too).
-        self.recording
-            .snapshot_if_due(self.steps, &self.world, per_snapshot);
+        self.recording.snapshot_if_due(
+            self.steps,
+            &self.world,
+            self.controller.as_ref(),
+            per_snapshot,
+        );
         let made = edit.apply(&mut self.world)?;
         if let Edit::Destroy(id) = &edit
             && self.drag.is_some_and(|d| d.body == *id)
@@ -1210,5 +1286,73 @@ mod tests {
         assert_eq!(tail, last);
         sim.restart();
         assert!(sim.events.entries.is_empty() && sim.events.counts == [0; 6]);
+    }
+
+    /// The platformer under the scripted run's keys, as the viewer plays it: frames of 1/60 s.
+    fn platformer(steps: u64) -> Sim {
+        use tumble_scene::builtin::platformer::SCRIPT;
+        let mut sim = Sim::new(scene("platformer"), 2).unwrap();
+        sim.key_script = Some(KeyScript::parse(SCRIPT).unwrap());
+        sim.step_limit = Some(steps);
+        for _ in 0..steps + 10 {
+            sim.advance(1.0 / 60.0);
+        }
+        sim
+    }
+
+    #[test]
+    fn the_platformer_in_the_viewer_is_the_headless_run_bit_for_bit_and_stops_at_its_steps() {
+        use tumble_scene::builtin::platformer::{SCRIPT, SCRIPT_STEPS};
+        let sim = platformer(SCRIPT_STEPS);
+        // `--steps`: not one step beyond, however many frames came after.
+        assert_eq!(sim.steps, SCRIPT_STEPS);
+        let script = KeyScript::parse(SCRIPT).unwrap();
+        let (world, controller) =
+            tumble_scene::sample::play(&sim.scene, &script, SCRIPT_STEPS, 1, |_, _, _| {}).unwrap();
+        assert_eq!(sim.world.state_hash(), world.state_hash());
+        assert_eq!(sim.controller, controller);
+        assert!(sim.controller.as_ref().is_some_and(Controller::finished));
+    }
+
+    #[test]
+    fn a_replay_of_the_platformer_restores_its_character_and_keys_bit_for_bit() {
+        let mut sim = platformer(300);
+        let (hash, character) = (sim.world.state_hash(), sim.controller.clone());
+        assert!(sim.start_replay());
+        assert_ne!(sim.controller, character);
+        // Live keys are ignored while replaying: the recorded ones apply.
+        sim.keys = Keys::LEFT;
+        while sim.replay.is_some() {
+            sim.single_step();
+        }
+        assert_eq!(sim.world.state_hash(), hash);
+        assert_eq!(sim.controller, character);
+    }
+
+    #[test]
+    fn a_saved_platformer_goes_on_with_its_character_bit_for_bit() {
+        let mut sim = platformer(200);
+        let text = sim.save().to_json();
+        let mut other = Sim::new(scene("platformer"), 1).unwrap();
+        other
+            .restore(SavedWorld::from_json(&text, "test").unwrap())
+            .unwrap();
+        assert_eq!(other.controller, sim.controller);
+        for s in [&mut sim, &mut other] {
+            s.key_script = Some(KeyScript::parse("200:right+").unwrap());
+            s.step_limit = None;
+            for _ in 0..60 {
+                s.single_step();
+            }
+        }
+        assert_eq!(other.world.state_hash(), sim.world.state_hash());
+        assert_eq!(other.controller, sim.controller);
+        // The restart puts the character back at its start.
+        sim.restart();
+        assert_eq!(
+            sim.controller,
+            Controller::for_scene(&sim.scene),
+            "a fresh character"
+        );
     }
 }

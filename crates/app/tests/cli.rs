@@ -40,6 +40,17 @@ fn bad_flags_and_scenes_exit_2_with_a_message() {
             "does not exist",
         ),
         (&["--no-such-flag"], "--no-such-flag"),
+        (
+            &["--scene", "platformer", "--keys", "5:fly+"],
+            "unknown key",
+        ),
+        (
+            &["--scene", "platformer", "--keys", "x:right+"],
+            "STEP:KEY+",
+        ),
+        (&["--keys", "0:right+"], "--scene"),
+        (&["--scene", "platformer", "--steps", "0"], "--steps"),
+        (&["--steps", "10"], "--scene"),
     ];
     for (args, mention) in cases {
         let (code, stderr) = tumble(args);

@@ -9,6 +9,7 @@ use clap::Args;
 use serde::Serialize;
 use serde::ser::SerializeMap;
 use tumble_physics::{Event, EventCursor, Limits, World, default_thread_count};
+use tumble_scene::sample::{Controller, KeyScript, Keys};
 use tumble_scene::{DEFAULT_MAX_FILE_BYTES, LoadLimits};
 
 /// Most worker threads a run may ask for; far more than any machine here has cores.
@@ -56,6 +57,11 @@ pub struct RunArgs {
     /// without it.
     #[arg(long)]
     pub pre_solve: bool,
+    /// Keys for a played sample (the platformer), by step, as the viewer's `--keys` takes
+    /// them: `STEP:KEY+` or `STEP:KEY-`, KEY one of left, right, jump, down. A built-in with a
+    /// controller runs it with or without keys, as the viewer does.
+    #[arg(long, value_name = "SCRIPT")]
+    pub keys: Option<String>,
 }
 
 /// The document `run` writes (CONTRACT.md, section 2). Field order is the contract's.
@@ -82,6 +88,8 @@ struct Report {
     awake_bodies: usize,
     /// Islands after the last step, and of those the awake ones.
     islands: [usize; 2],
+    /// A played sample's state at the end (the platformer's character and score).
+    sample: Option<Controller>,
 }
 
 /// One body after the last step. serde_json writes each f32 in the shortest form that reads
@@ -164,6 +172,21 @@ pub fn run(args: &RunArgs) -> Result<()> {
     // A built-in that moves things between steps (junkyard's pusher) does so here too.
     let is_file = std::path::Path::new(&args.scene).exists();
     let script = tumble_scene::builtin::script(&args.scene).filter(|_| !generated && !is_file);
+    let mut controller = Controller::for_scene(&scene).filter(|_| !generated && !is_file);
+    let key_script = match &args.keys {
+        Some(text) => KeyScript::parse(text).map_err(|e| anyhow::anyhow!("--keys: {e}"))?,
+        None => KeyScript::default(),
+    };
+    if !key_script.is_empty() && controller.is_none() {
+        bail!(
+            "--keys: {} reads no keys (a sample a person plays does: platformer)",
+            args.scene
+        );
+    }
+    if let Some(c) = &controller {
+        c.install(&mut world);
+    }
+    let mut keys = Keys::NONE;
     let mut events = match &args.events {
         Some(path) => Some(EventFile::create(path)?),
         None => None,
@@ -179,7 +202,14 @@ pub fn run(args: &RunArgs) -> Result<()> {
                 file.write_new(&world, k)?;
             }
         }
+        if let Some(c) = &mut controller {
+            keys = key_script.keys_at(world.step_count(), keys);
+            c.before_step(world.step_count(), keys, &mut world);
+        }
         world.step(scene.dt, scene.substeps);
+        if let Some(c) = &mut controller {
+            c.after_step(world.step_count() - 1, &mut world);
+        }
         if let Some(file) = &mut events {
             file.write_new(&world, k)?;
         }
@@ -254,6 +284,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
             let (all, awake) = world.island_counts();
             [all, awake]
         },
+        sample: controller,
     };
     write_report(&report, args.out.as_ref())
 }
@@ -300,7 +331,13 @@ fn write_json(w: impl Write, report: &Report) -> std::io::Result<()> {
     writeln!(w, "  \"non_finite_bodies\": {},", report.non_finite_bodies)?;
     writeln!(w, "  \"joints\": {},", report.joints)?;
     writeln!(w, "  \"awake_bodies\": {},", report.awake_bodies)?;
-    writeln!(w, "  \"islands\": {:?}", report.islands)?;
+    match &report.sample {
+        Some(sample) => {
+            writeln!(w, "  \"islands\": {:?},", report.islands)?;
+            writeln!(w, "  \"sample\": {}", json(sample)?)?;
+        }
+        None => writeln!(w, "  \"islands\": {:?}", report.islands)?,
+    }
     writeln!(w, "}}")?;
     w.flush()
 }

@@ -229,6 +229,13 @@ impl Controller {
         }
     }
 
+    /// What the camera follows (the character), if anything.
+    pub fn focus(&self) -> Option<tumble_physics::Vec2> {
+        match self {
+            Controller::Platformer(p) => Some(p.position),
+        }
+    }
+
     /// Whether the level was finished (the platformer's flag reached).
     pub fn finished(&self) -> bool {
         match self {

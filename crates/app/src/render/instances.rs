@@ -520,6 +520,12 @@ impl Instances {
         world.draw(&mut Painter::new(self, world, Coloring::Id, 0.0), &options);
     }
 
+    /// What a played sample draws beside the world (the platformer's pogo and the planes
+    /// holding its character), through the same painter.
+    pub fn add_sample(&mut self, world: &World, controller: &tumble_scene::sample::Controller) {
+        controller.draw(&mut Painter::new(self, world, Coloring::Id, 0.0));
+    }
+
     /// Every joint, as the library's [`World::draw`] draws them (Box2D's way: body A's
     /// centre to its anchor, anchor to anchor, body B's anchor to its centre; a distance
     /// joint its anchors only; a slider's axis and limits, a hinge's limits as spokes; the

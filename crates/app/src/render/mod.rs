@@ -192,6 +192,9 @@ impl SceneRenderer {
             self.instances.add_bullets(world, &camera);
             self.instances
                 .add_joints(world, debug.joint_forces && view.debug, &camera);
+            if let Some(controller) = &view.sim.controller {
+                self.instances.add_sample(world, controller);
+            }
             if view.debug {
                 self.instances.add_debug(world, debug, &camera);
                 if let Some(drag) = &view.sim.drag {

@@ -9,6 +9,7 @@ use super::intro::Backdrop;
 use super::{Shared, Simulation, State, StateKind, Transition, View};
 use crate::input::{InputEvent, Key};
 use crate::sim::Sim;
+use tumble_scene::sample::Category;
 
 /// One scene the menu offers.
 #[derive(Clone, Debug, PartialEq)]
@@ -19,10 +20,26 @@ pub struct SceneEntry {
     pub source: String,
     /// Shown beside the list.
     pub description: String,
+    /// Where the sample browser lists it.
+    pub category: Category,
+    /// The keys it reads and what each does (a sample a person plays).
+    pub keys: &'static [(&'static str, &'static str)],
 }
 
-/// The built-in scenes, then the scene files of `assets/scenes` (looked up in the working
-/// directory, then in the source tree this binary was built from).
+impl SceneEntry {
+    /// Whether the search `query` (lower case) finds it: in its name, description or
+    /// category.
+    pub fn matches(&self, query: &str) -> bool {
+        query.is_empty()
+            || self.label.to_lowercase().contains(query)
+            || self.description.to_lowercase().contains(query)
+            || self.category.name().to_lowercase().contains(query)
+    }
+}
+
+/// The built-in scenes by category (in [`Category::ALL`]'s order, each in the built-ins'
+/// order), then the scene files of `assets/scenes` (looked up in the working directory, then
+/// in the source tree this binary was built from).
 pub fn scene_entries() -> Vec<SceneEntry> {
     let mut entries: Vec<SceneEntry> = tumble_scene::builtin::names()
         .iter()
@@ -32,8 +49,13 @@ pub fn scene_entries() -> Vec<SceneEntry> {
             description: tumble_scene::builtin::describe(name)
                 .unwrap_or("")
                 .to_string(),
+            category: tumble_scene::builtin::category(name).unwrap_or(Category::Files),
+            keys: tumble_scene::builtin::keys(name),
         })
         .collect();
+    let rank = |c: Category| Category::ALL.iter().position(|&a| a == c);
+    // Stable: each category keeps the built-ins' order.
+    entries.sort_by_key(|e| rank(e.category));
     let dirs = [
         PathBuf::from("assets/scenes"),
         Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes"),
@@ -53,6 +75,8 @@ pub fn scene_entries() -> Vec<SceneEntry> {
                 label: file.clone(),
                 source: path.to_string_lossy().into_owned(),
                 description: format!("A scene file: {}.", path.display()),
+                category: Category::Files,
+                keys: &[],
             });
         }
     }
@@ -66,6 +90,8 @@ pub struct MainMenu {
     selected: usize,
     settings_open: bool,
     error: Option<String>,
+    /// The search box's text.
+    search: String,
 }
 
 impl MainMenu {
@@ -77,6 +103,7 @@ impl MainMenu {
             selected: 0,
             settings_open: false,
             error: None,
+            search: String::new(),
         }
     }
 
@@ -102,6 +129,29 @@ impl MainMenu {
         }
     }
 
+    /// The entries the search leaves, by their place in the list.
+    fn visible(&self) -> Vec<usize> {
+        let query = self.search.trim().to_lowercase();
+        (0..self.entries.len())
+            .filter(|&i| self.entries[i].matches(&query))
+            .collect()
+    }
+
+    /// Moves the selection `by` places among the visible entries (wrapping).
+    fn step_selection(&mut self, by: isize) {
+        let visible = self.visible();
+        if visible.is_empty() {
+            return;
+        }
+        let n = visible.len() as isize;
+        let at = visible.iter().position(|&i| i == self.selected);
+        let next = match at {
+            Some(k) => (k as isize + by).rem_euclid(n),
+            None => 0,
+        };
+        self.selected = visible[next as usize];
+    }
+
     fn select_source(&mut self, source: &str) {
         if let Some(i) = self.entries.iter().position(|e| e.source == source) {
             self.selected = i;
@@ -125,10 +175,9 @@ impl State for MainMenu {
         else {
             return Transition::None;
         };
-        let n = self.entries.len().max(1);
         match key {
-            Key::ArrowUp => self.selected = (self.selected + n - 1) % n,
-            Key::ArrowDown => self.selected = (self.selected + 1) % n,
+            Key::ArrowUp => self.step_selection(-1),
+            Key::ArrowDown => self.step_selection(1),
             Key::Enter => return self.start(shared),
             _ => {}
         }
@@ -163,30 +212,77 @@ impl State for MainMenu {
             .show(&ctx, |ui| {
                 ui.vertical_centered(|ui| {
                     ui.label(RichText::new("tumble").size(36.0).strong());
-                    ui.label("Pick a scene: Up and Down choose, Enter starts.");
+                    ui.label("Pick a sample: Up and Down choose, Enter starts; type to search.");
                 });
                 ui.separator();
                 ui.columns(2, |cols| {
+                    let ui = &mut cols[0];
+                    let search = ui.add(
+                        egui::TextEdit::singleline(&mut self.search)
+                            .hint_text("Search samples")
+                            .desired_width(f32::INFINITY),
+                    );
+                    if search.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter)) {
+                        start_now = !self.visible().is_empty();
+                    }
+                    if search.changed() {
+                        let visible = self.visible();
+                        if !visible.contains(&self.selected)
+                            && let Some(&first) = visible.first()
+                        {
+                            self.selected = first;
+                        }
+                    }
+                    let visible = self.visible();
+                    let searching = !self.search.trim().is_empty();
                     egui::ScrollArea::vertical()
                         .id_salt("scenes")
-                        .max_height(height - 120.0)
-                        .show(&mut cols[0], |ui| {
-                            for (i, entry) in self.entries.iter().enumerate() {
-                                let r = ui.selectable_label(i == self.selected, &entry.label);
-                                if r.clicked() {
-                                    self.selected = i;
-                                    self.error = None;
+                        .max_height(height - 150.0)
+                        .show(ui, |ui| {
+                            if visible.is_empty() {
+                                ui.label("Nothing matches.");
+                            }
+                            for category in Category::ALL {
+                                let members: Vec<usize> = visible
+                                    .iter()
+                                    .copied()
+                                    .filter(|&i| self.entries[i].category == category)
+                                    .collect();
+                                if members.is_empty() {
+                                    continue;
                                 }
-                                if r.double_clicked() {
-                                    self.selected = i;
-                                    start_now = true;
-                                }
+                                let holds_selected = members.contains(&self.selected);
+                                egui::CollapsingHeader::new(format!(
+                                    "{} ({})",
+                                    category.name(),
+                                    members.len()
+                                ))
+                                .id_salt(category.name())
+                                .default_open(true)
+                                .open((searching || holds_selected).then_some(true))
+                                .show(ui, |ui| {
+                                    for i in members {
+                                        let entry = &self.entries[i];
+                                        let r =
+                                            ui.selectable_label(i == self.selected, &entry.label);
+                                        if r.clicked() {
+                                            self.selected = i;
+                                            self.error = None;
+                                        }
+                                        if r.double_clicked() {
+                                            self.selected = i;
+                                            start_now = true;
+                                        }
+                                    }
+                                });
                             }
                         });
                     let ui = &mut cols[1];
                     if let Some(entry) = self.entries.get(self.selected) {
                         ui.heading(&entry.label);
+                        ui.label(RichText::new(entry.category.name()).small().weak());
                         ui.label(&entry.description);
+                        keys_ui(ui, entry.keys);
                     }
                     ui.add_space(12.0);
                     if let Some(err) = &self.error {
@@ -224,6 +320,23 @@ impl State for MainMenu {
     fn sim(&self) -> Option<&Sim> {
         self.backdrop.as_ref().map(|b| &b.sim)
     }
+}
+
+/// The keys a sample reads, as a small table (nothing for a sample that reads none).
+pub fn keys_ui(ui: &mut egui::Ui, keys: &[(&str, &str)]) {
+    if keys.is_empty() {
+        return;
+    }
+    ui.add_space(4.0);
+    egui::Grid::new("sample-keys")
+        .num_columns(2)
+        .show(ui, |ui| {
+            for (key, what) in keys {
+                ui.label(RichText::new(*key).strong());
+                ui.label(*what);
+                ui.end_row();
+            }
+        });
 }
 
 /// The settings the menu offers (they persist).

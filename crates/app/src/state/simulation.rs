@@ -13,6 +13,7 @@ use crate::input::{Button, InputEvent, Key};
 use crate::sim::{SavedWorld, Sim};
 use crate::ui::profiler::Sweep;
 use tumble_physics::BodyKind;
+use tumble_scene::sample::Keys;
 
 /// The simulation state.
 pub struct Simulation {
@@ -42,6 +43,9 @@ pub struct Simulation {
     /// Which kinds of event the event log lists (as [`crate::sim::EventLog::kind`] numbers
     /// them).
     pub(crate) event_filter: [bool; 6],
+    /// The camera follows a played sample's character, keeping it this far from the
+    /// view's centre (until the user pans; F frames it again).
+    pub(crate) follow: Option<Vec2>,
 }
 
 /// What a left drag does in the simulation.
@@ -73,6 +77,7 @@ impl Simulation {
             tool: Tool::Grab,
             casting: false,
             event_filter: [true; 6],
+            follow: None,
         }
     }
 
@@ -112,11 +117,23 @@ impl Simulation {
         }
     }
 
-    /// Frames the whole scene in the part of the window the panels leave free.
+    /// Frames the whole scene in the part of the window the panels leave free; in a played
+    /// sample, the character and 12 m around it, and follows it from then on.
     pub fn fit(&mut self, shared: &Shared) {
         self.camera.viewport = shared.viewport;
-        self.camera
-            .fit(world_bounds(&self.sim.world), shared.view_area);
+        match self.sim.controller.as_ref().and_then(|c| c.focus()) {
+            Some(focus) => {
+                let bounds = tumble_physics::Aabb {
+                    min: focus - Vec2::new(12.0, 5.0),
+                    max: focus + Vec2::new(12.0, 7.0),
+                };
+                self.camera.fit(bounds, shared.view_area);
+                self.follow = Some(self.camera.center - focus);
+            }
+            None => self
+                .camera
+                .fit(world_bounds(&self.sim.world), shared.view_area),
+        }
     }
 
     /// Swaps in another scene (from the panel's picker), keeping threads and settings.
@@ -173,6 +190,18 @@ impl Simulation {
     }
 }
 
+/// The sample key a keyboard key stands for in a played sample (Box2D's samples: arrows or
+/// A and D to walk, Space, Up or W to jump).
+pub fn sample_key(key: Key) -> Option<Keys> {
+    Some(match key {
+        Key::ArrowLeft | Key::A => Keys::LEFT,
+        Key::ArrowRight | Key::D => Keys::RIGHT,
+        Key::Space | Key::ArrowUp | Key::W => Keys::JUMP,
+        Key::ArrowDown => Keys::DOWN,
+        _ => return None,
+    })
+}
+
 #[cfg(not(target_arch = "wasm32"))]
 fn read_snapshot_file() -> anyhow::Result<SavedWorld> {
     use anyhow::Context;
@@ -204,6 +233,14 @@ impl State for Simulation {
     }
 
     fn on_input(&mut self, event: &InputEvent, shared: &mut Shared) -> Transition {
+        if let InputEvent::Key { key, pressed, .. } = *event
+            && self.sim.controller.is_some()
+            && let Some(sample_key) = sample_key(key)
+        {
+            // A played sample reads these keys (Space jumps, not pauses), held or not.
+            self.sim.keys.set(sample_key, pressed);
+            return Transition::None;
+        }
         match *event {
             InputEvent::Key {
                 key,
@@ -251,6 +288,7 @@ impl State for Simulation {
                 self.pointer = Some(position);
                 if self.panning {
                     self.camera.pan_pixels(delta);
+                    self.follow = None;
                 }
                 if let Some(drag) = &mut self.sim.drag {
                     drag.target = self.camera.screen_to_world(position);
@@ -277,6 +315,12 @@ impl State for Simulation {
         // The sweep measures the step on every core: the live world waits meanwhile.
         if !self.sweep.is_running() {
             self.sim.advance(frame_seconds);
+        }
+        if let (Some(offset), Some(focus)) = (
+            self.follow,
+            self.sim.controller.as_ref().and_then(|c| c.focus()),
+        ) {
+            self.camera.center = focus + offset;
         }
         Transition::None
     }

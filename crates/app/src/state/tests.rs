@@ -70,11 +70,13 @@ fn intro_skips_to_the_menu_on_any_key_or_click_or_after_a_while() {
 fn menu_starts_the_selected_scene_and_escape_quits() {
     let mut sh = shared();
     let mut m = StateMachine::new(Box::new(MainMenu::new(None)));
-    m.input(press(Key::ArrowDown), NO_EGUI, &mut sh); // the second scene: pyramid
+    // The samples by category, the character first: Down picks the second, the first
+    // benchmark.
+    m.input(press(Key::ArrowDown), NO_EGUI, &mut sh);
     m.input(press(Key::Enter), NO_EGUI, &mut sh);
     assert_eq!(m.kinds(), vec![StateKind::Simulation]);
-    assert_eq!(sh.settings.scene, "pyramid");
-    assert_eq!(m.sim().unwrap().scene.name, "pyramid");
+    assert_eq!(sh.settings.scene, "large_pyramid");
+    assert_eq!(m.sim().unwrap().scene.name, "large_pyramid");
 
     let mut m = StateMachine::new(Box::new(MainMenu::new(None)));
     assert!(!m.should_quit());
@@ -426,4 +428,91 @@ fn the_ray_tool_drags_out_a_ray_and_grabs_nothing() {
         .position;
     st.on_input(&button(true, body), &mut sh);
     assert!(st.sim.drag.is_some());
+}
+
+#[test]
+fn the_menu_lists_samples_by_category_and_its_search_finds_by_name_description_or_category() {
+    let entries = main_menu::scene_entries();
+    assert_eq!(entries[0].label, "platformer");
+    let ranks: Vec<usize> = entries
+        .iter()
+        .map(|e| {
+            tumble_scene::sample::Category::ALL
+                .iter()
+                .position(|&c| c == e.category)
+                .unwrap()
+        })
+        .collect();
+    assert!(
+        ranks.is_sorted(),
+        "grouped by category in the browser's order"
+    );
+    let find = |q: &str| -> Vec<&str> {
+        entries
+            .iter()
+            .filter(|e| e.matches(q))
+            .map(|e| e.label.as_str())
+            .collect()
+    };
+    assert!(find("pyramid").contains(&"many_pyramids"));
+    assert!(find("benchmark").contains(&"washer"), "by category");
+    assert!(find("conveyor").contains(&"platformer"), "by description");
+    assert!(find("no such thing").is_empty());
+    // Box2D's benchmark scenes keep their names, under Benchmark.
+    for name in [
+        "large_pyramid",
+        "many_pyramids",
+        "rain",
+        "smash",
+        "spinner",
+        "tumbler",
+    ] {
+        let e = entries.iter().find(|e| e.label == name).unwrap();
+        assert_eq!(
+            e.category,
+            tumble_scene::sample::Category::Benchmark,
+            "{name}"
+        );
+    }
+}
+
+#[test]
+fn in_the_platformer_the_arrows_and_space_steer_the_character_not_the_viewer() {
+    let mut sh = shared();
+    let sim = crate::sim::Sim::load("platformer", 1).unwrap();
+    let mut m = StateMachine::new(Box::new(Simulation::new(sim, &sh)));
+    let start = m
+        .sim()
+        .unwrap()
+        .controller
+        .clone()
+        .unwrap()
+        .focus()
+        .unwrap();
+    m.input(press(Key::ArrowRight), NO_EGUI, &mut sh);
+    m.input(press(Key::Space), NO_EGUI, &mut sh);
+    for _ in 0..30 {
+        m.update(1.0 / 60.0, &mut sh);
+    }
+    let sim = m.sim().unwrap();
+    // Space jumped instead of pausing.
+    assert!(sim.running);
+    let now = sim.controller.as_ref().unwrap().focus().unwrap();
+    assert!(now.x > start.x + 2.0, "walked right: {start} -> {now}");
+    let release = InputEvent::Key {
+        key: Key::ArrowRight,
+        pressed: false,
+        repeat: false,
+    };
+    m.input(release, NO_EGUI, &mut sh);
+    assert!(
+        !m.sim()
+            .unwrap()
+            .keys
+            .contains(tumble_scene::sample::Keys::RIGHT)
+    );
+    // In a scene without a character Space still pauses.
+    let mut m = simulation(&sh);
+    m.input(press(Key::Space), NO_EGUI, &mut sh);
+    assert!(!m.sim().unwrap().running);
 }

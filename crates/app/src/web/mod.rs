@@ -199,7 +199,8 @@ pub fn bench_result() -> Option<String> {
 }
 
 /// The options a page's address gives: `?scene=NAME` starts that scene (skipping the intro
-/// and the menu), `&threads=T` its thread count.
+/// and the menu), `&threads=T` its thread count, `&keys=SCRIPT` keys for a played sample by
+/// step (as the viewer's `--keys`), `&steps=S` stops the simulation at S steps.
 pub fn url_options(search: &str) -> anyhow::Result<Options> {
     let params = web_sys::UrlSearchParams::new_with_str(search)
         .map_err(|_| anyhow::anyhow!("cannot read the page's address"))?;
@@ -221,10 +222,30 @@ pub fn url_options(search: &str) -> anyhow::Result<Options> {
         }
         None => None,
     };
+    let keys = match params.get("keys").filter(|k| !k.is_empty()) {
+        Some(text) => Some(
+            tumble_scene::sample::KeyScript::parse(&text)
+                .map_err(|e| anyhow::anyhow!("keys={text}: {e}"))?,
+        ),
+        None => None,
+    };
+    let steps = match params.get("steps") {
+        Some(t) => Some(
+            t.parse::<u64>()
+                .ok()
+                .filter(|&n| n >= 1)
+                .ok_or_else(|| anyhow::anyhow!("steps={t}: not a whole number >= 1"))?,
+        ),
+        None => None,
+    };
+    let scripted = keys.is_some() || steps.is_some();
     Ok(Options {
         scene,
         threads,
-        persist: true,
+        keys,
+        steps,
+        // A scripted page must not depend on or change what a person set.
+        persist: !scripted,
         ..Options::default()
     })
 }
@@ -274,6 +295,15 @@ impl Publisher {
         self.set("step_ms_mean", num(s.step_ms_mean));
         self.set("cross_origin_isolated", JsValue::from_bool(self.isolated));
         self.set("non_finite_bodies", num(s.non_finite_bodies as f64));
+        self.set("state_hash", JsValue::from_str(&s.state_hash));
+        self.set("scene_steps", num(s.scene_steps as f64));
+        self.set(
+            "sample",
+            s.sample
+                .as_ref()
+                .and_then(|c| serde_json::to_string(c).ok())
+                .map_or(JsValue::NULL, |j| JsValue::from_str(&j)),
+        );
         // Beyond the contract: what tests and the benchmark look at.
         self.set("threads_enabled", JsValue::from_bool(threads::enabled()));
         self.set("max_threads", num(r.max_threads as f64));

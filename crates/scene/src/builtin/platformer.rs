@@ -85,7 +85,7 @@ const BRIDGE_SAG: f32 = 1.2;
 /// The scene's bodies, by their place in the scene (each is `BodyId::scene(index)`).
 #[derive(Clone, Copy, Debug)]
 pub struct Layout {
-    /// The static ground (many parts), the bridge's anchor.
+    /// The static ground (many parts).
     pub ground: usize,
     /// The conveyor belt.
     pub belt: usize,
@@ -142,9 +142,10 @@ pub fn build() -> (SceneDef, Layout) {
             floor(21.0, 24.0, 2.0),
             floor(24.0, 24.75, 2.25),
             floor(24.75, 25.5, 2.5),
-            floor(25.5, 28.0, BANK),
-            floor(28.0, 38.0, 0.0),
-            floor(38.0, 44.0, BANK),
+            // The banks stop 10 cm short of the bridge's posts, so its end planks swing free.
+            floor(25.5, 27.9, BANK),
+            floor(27.9, 38.1, 0.0),
+            floor(38.1, 44.0, BANK),
             floor(44.0, 47.0, BANK - 0.3),
             floor(47.0, 59.0, LEDGE),
             floor(59.0, 60.0, 12.0),
@@ -250,9 +251,25 @@ pub fn build() -> (SceneDef, Layout) {
                 .angle((y1 - y0).atan2(x1 - x0)),
         );
     }
+    // Each end hangs from a post of its own (drawn joints go from a body's centre to the
+    // anchor: the ground's centre is far away).
+    let post = |x: f32| {
+        BodyDef::new(rect(0.1, 0.1))
+            .kind(BodyKind::Static)
+            .at(x, BANK - 0.1)
+    };
+    let (left_post, right_post) = (scene.push(post(28.0)), scene.push(post(38.0)));
     for k in 0..=PLANKS {
-        let a = if k == 0 { ground } else { first_plank + k - 1 };
-        let b = if k == PLANKS { ground } else { first_plank + k };
+        let a = if k == 0 {
+            left_post
+        } else {
+            first_plank + k - 1
+        };
+        let b = if k == PLANKS {
+            right_post
+        } else {
+            first_plank + k
+        };
         scene.joints.push(JointDef::hinge(
             [BodyId::scene(a), BodyId::scene(b)],
             corner(k),
@@ -578,7 +595,7 @@ impl Platformer {
         }
     }
 
-    /// After a step: picks up the coins the avatar touched, notes the flag, and removes
+    /// After a step: picks up (disables) the coins the avatar touched, notes the flag, and removes
     /// the bridge hinges that broke.
     pub fn after_step(&mut self, step: u64, world: &mut World) {
         let layout = Self::layout();
@@ -603,7 +620,9 @@ impl Platformer {
             }
         }
         for body in taken {
-            if world.destroy_body(body).is_ok() {
+            // Disabled, not destroyed: out of the world (no sensor, no drawing) while every
+            // body keeps its place in the scene's numbering.
+            if world.is_enabled(body) == Ok(true) && world.set_enabled(body, false).is_ok() {
                 self.coins += 1;
             }
         }

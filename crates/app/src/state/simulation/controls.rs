@@ -69,8 +69,14 @@ fn controls(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared, out: &m
     egui::ComboBox::from_id_salt("scene")
         .selected_text(&st.sim.scene.name)
         .width(ui.available_width() - 8.0)
+        .height(480.0)
         .show_ui(ui, |ui| {
+            let mut category = None;
             for entry in &st.entries {
+                if category != Some(entry.category) {
+                    category = Some(entry.category);
+                    ui.label(RichText::new(entry.category.name()).small().strong());
+                }
                 if ui
                     .selectable_label(entry.source == current, &entry.label)
                     .on_hover_text(&entry.description)
@@ -102,6 +108,8 @@ fn controls(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared, out: &m
             st.fit(shared);
         }
     });
+
+    sample_ui(ui, st);
 
     ui.separator();
     let cores = tumble_physics::default_thread_count().max(1);
@@ -318,6 +326,24 @@ fn controls(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared, out: &m
 }
 
 /// What a left drag does, and what the ray tool's ray hits.
+/// A played sample: the keys it reads (shown while it runs) and what its controller says
+/// (the platformer's coins, flag, footing).
+fn sample_ui(ui: &mut egui::Ui, st: &Simulation) {
+    let keys = tumble_scene::builtin::keys(&st.sim.scene.name);
+    let Some(controller) = &st.sim.controller else {
+        return;
+    };
+    ui.separator();
+    ui.label(RichText::new("Play").strong());
+    crate::state::main_menu::keys_ui(ui, keys);
+    for line in controller.status() {
+        ui.label(line);
+    }
+    if st.sim.key_script.is_some() {
+        ui.label(RichText::new("Keys scripted (--keys)").small().weak());
+    }
+}
+
 fn tools_ui(ui: &mut egui::Ui, st: &mut Simulation) {
     ui.horizontal(|ui| {
         ui.label(RichText::new("Left drag").strong());
