@@ -7,6 +7,8 @@
 //   TUMBLE_OUT               where screenshots go (optional)
 //   TUMBLE_NATIVE_HASH       `tumble-bench run falling_circles --steps 120 --threads 1`'s
 //                            `state_hash`, which the page must reproduce at 1 and 2 threads
+//   TUMBLE_PLATFORMER_HASH   `tumble-bench run platformer --keys demo --steps S --threads 1`'s
+//   TUMBLE_PLATFORMER_STEPS  S: the page's scripted platformer must end there, at that hash
 //
 // By hand: `cargo xtask web --release`, then in this folder
 // `npm ci && TUMBLE_URL=http://127.0.0.1:8080/ node --test web.test.mjs`.
@@ -255,6 +257,57 @@ describe('web build, the same state as the native build', () => {
       await page.close();
     });
   }
+});
+
+// The platformer, played in the page: by the scripted keys of its demo run (the same keys at
+// the same steps as the native runner, so the same state, bit for bit), and by real key
+// presses sent to the canvas.
+describe('web build, the platformer', () => {
+  let browser;
+  before(async () => {
+    browser = await chromium.launch({ executablePath: CHROMIUM, args: BASE_FLAGS, headless: true });
+  });
+  after(async () => {
+    await browser?.close();
+  });
+
+  const sample = (s) => JSON.parse(s.sample).Platformer;
+
+  test('the scripted run takes the coins, reaches the flag and ends at the native state', { timeout: TEST_TIMEOUT }, async () => {
+    const native = process.env.TUMBLE_PLATFORMER_HASH;
+    const steps = Number(process.env.TUMBLE_PLATFORMER_STEPS);
+    assert.match(native ?? '', /^[0-9a-f]{16}$/, 'TUMBLE_PLATFORMER_HASH (set by cargo xtask test)');
+    assert.ok(steps > 0, 'TUMBLE_PLATFORMER_STEPS (set by cargo xtask test)');
+    const { page, errors } = await openPage(browser, `${URL}?scene=platformer&threads=2&keys=demo&steps=${steps}`);
+    const s = await until(page, `window.tumble.scene_steps >= ${steps}`, 180_000);
+    assert.equal(s.scene_steps, steps, 'stops at its steps');
+    const p = sample(s);
+    assert.equal(p.coins, 3);
+    assert.ok(p.reached_flag !== null && p.reached_flag < steps, `the flag: ${p.reached_flag}`);
+    assert.ok(p.deepest <= 0.01, `never a centimetre into the ground: ${p.deepest}`);
+    assert.equal(s.state_hash, native, 'the same state as the native run');
+    assert.deepEqual(errors, [], 'no console errors');
+    await page.close();
+  });
+
+  test('the arrow keys walk the character and Space jumps (it does not pause)', { timeout: TEST_TIMEOUT }, async () => {
+    const { page, errors } = await openPage(browser, `${URL}?scene=platformer&threads=1`);
+    await page.locator('#tumble-canvas').click({ position: { x: 900, y: 700 } });
+    const start = sample(await state(page));
+    await page.keyboard.down('ArrowRight');
+    let s = await until(page, `JSON.parse(window.tumble.sample).Platformer.position[0] > ${start.position[0] + 3}`);
+    await page.keyboard.up('ArrowRight');
+    const walked = sample(s);
+    assert.ok(walked.position[0] > start.position[0] + 3, `walked right: ${start.position} -> ${walked.position}`);
+    await page.keyboard.down('Space');
+    s = await until(page, `JSON.parse(window.tumble.sample).Platformer.position[1] > ${walked.position[1] + 0.5}`);
+    await page.keyboard.up('Space');
+    const stepsThen = s.steps;
+    s = await until(page, `window.tumble.steps > ${stepsThen + 10}`);
+    assert.ok(s.steps > stepsThen, 'still stepping after Space');
+    assert.deepEqual(errors, [], 'no console errors');
+    await page.close();
+  });
 });
 
 describe('web build, a panic', () => {

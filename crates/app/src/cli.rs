@@ -50,8 +50,9 @@ pub struct Cli {
     #[arg(long)]
     pub no_vsync: bool,
     /// Keys for a played sample, by step: `STEP:KEY+` (down) or `STEP:KEY-` (up), separated
-    /// by commas, KEY one of left, right, jump, down (e.g. `0:right+,266:jump+,270:jump-`).
-    /// Steps, not frames: the run is the same whatever the frame rate.
+    /// by commas, KEY one of left, right, jump, down (e.g. `0:right+,266:jump+,270:jump-`),
+    /// or `demo` for the sample's own run through its level. Steps, not frames: the run is
+    /// the same whatever the frame rate.
     #[arg(long, value_name = "SCRIPT")]
     pub keys: Option<String>,
     /// Stop the simulation at S steps since the scene started and exit once there (the
@@ -105,13 +106,17 @@ impl Cli {
                 check_writable_parent(flag, path)?;
             }
         }
-        let keys = match &self.keys {
-            Some(text) => Some(KeyScript::parse(text).map_err(|e| anyhow::anyhow!("--keys: {e}"))?),
-            None => None,
+        let keys = match (&self.keys, &scene) {
+            (Some(text), Some(scene)) => Some(
+                KeyScript::for_scene(text, scene).map_err(|e| anyhow::anyhow!("--keys: {e}"))?,
+            ),
+            (Some(_), None) => {
+                bail!(
+                    "--keys: give the scene that reads them with --scene (e.g. --scene platformer)"
+                )
+            }
+            (None, _) => None,
         };
-        if keys.is_some() && self.scene.is_none() {
-            bail!("--keys: give the scene that reads them with --scene (e.g. --scene platformer)");
-        }
         if self.steps.is_some() && self.scene.is_none() {
             bail!("--steps: give the scene to run with --scene");
         }

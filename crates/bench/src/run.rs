@@ -58,8 +58,9 @@ pub struct RunArgs {
     #[arg(long)]
     pub pre_solve: bool,
     /// Keys for a played sample (the platformer), by step, as the viewer's `--keys` takes
-    /// them: `STEP:KEY+` or `STEP:KEY-`, KEY one of left, right, jump, down. A built-in with a
-    /// controller runs it with or without keys, as the viewer does.
+    /// them: `STEP:KEY+` or `STEP:KEY-`, KEY one of left, right, jump, down, or `demo` (the
+    /// sample's own run). A built-in with a controller runs it with or without keys, as the
+    /// viewer does.
     #[arg(long, value_name = "SCRIPT")]
     pub keys: Option<String>,
 }
@@ -174,7 +175,9 @@ pub fn run(args: &RunArgs) -> Result<()> {
     let script = tumble_scene::builtin::script(&args.scene).filter(|_| !generated && !is_file);
     let mut controller = Controller::for_scene(&scene).filter(|_| !generated && !is_file);
     let key_script = match &args.keys {
-        Some(text) => KeyScript::parse(text).map_err(|e| anyhow::anyhow!("--keys: {e}"))?,
+        Some(text) => {
+            KeyScript::for_scene(text, &scene).map_err(|e| anyhow::anyhow!("--keys: {e}"))?
+        }
         None => KeyScript::default(),
     };
     if !key_script.is_empty() && controller.is_none() {

@@ -127,7 +127,8 @@ pub struct KeyEvent {
 
 /// A script of keys, as the viewer's `--keys` and the page's `keys=` take it: events
 /// separated by commas or spaces, each `STEP:KEY+` (down) or `STEP:KEY-` (up), e.g.
-/// `0:right+,95:jump+,99:jump-,400:right-`. Sorted by step; events of one step apply in the
+/// `0:right+,95:jump+,99:jump-,400:right-`; or `demo`, the sample's own run
+/// ([`KeyScript::for_scene`]). Sorted by step; events of one step apply in the
 /// order given.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct KeyScript {
@@ -161,6 +162,22 @@ impl KeyScript {
         // Stable: events of one step keep their order.
         events.sort_by_key(|e| e.step);
         Ok(KeyScript { events })
+    }
+
+    /// Reads a script for `scene`: `demo` is the sample's own run through its level (the
+    /// platformer's [`SCRIPT`](crate::builtin::platformer::SCRIPT)), anything else as
+    /// [`KeyScript::parse`] reads it.
+    pub fn for_scene(text: &str, scene: &SceneDef) -> Result<KeyScript, String> {
+        if text.trim() == "demo" {
+            return match Controller::for_scene(scene) {
+                Some(c) => KeyScript::parse(c.demo_keys()),
+                None => Err(format!(
+                    "keys `demo`: {} has no demo run (a sample a person plays has: platformer)",
+                    scene.name
+                )),
+            };
+        }
+        KeyScript::parse(text)
     }
 
     /// The keys held during step `step`, given those held during the step before.
@@ -226,6 +243,13 @@ impl Controller {
     pub fn draw(&self, draw: &mut impl tumble_physics::draw::DebugDraw) {
         match self {
             Controller::Platformer(p) => p.draw(draw),
+        }
+    }
+
+    /// The sample's own run through its level, as a key script (`--keys demo`).
+    pub fn demo_keys(&self) -> &'static str {
+        match self {
+            Controller::Platformer(_) => crate::builtin::platformer::SCRIPT,
         }
     }
 
@@ -295,6 +319,29 @@ mod tests {
         let k10 = script.keys_at(10, k0);
         assert!(k10.contains(Keys::JUMP) && k10.contains(Keys::RIGHT) && !k10.contains(Keys::LEFT));
         assert_eq!(script.keys_at(12, k10), Keys::RIGHT);
+    }
+
+    #[test]
+    fn demo_is_the_samples_own_run_and_other_scenes_have_none() {
+        let platformer = crate::builtin::build("platformer").unwrap();
+        let demo = KeyScript::for_scene("demo", &platformer).unwrap();
+        assert_eq!(
+            demo,
+            KeyScript::parse(crate::builtin::platformer::SCRIPT).unwrap()
+        );
+        let pyramid = crate::builtin::build("pyramid").unwrap();
+        assert!(
+            KeyScript::for_scene("demo", &pyramid)
+                .unwrap_err()
+                .contains("no demo")
+        );
+        assert_eq!(
+            KeyScript::for_scene("3:left+", &pyramid)
+                .unwrap()
+                .events
+                .len(),
+            1
+        );
     }
 
     #[test]

@@ -405,7 +405,60 @@ fn viewer_window(root: &Path) -> Result<(), String> {
             "screenshot shows no bodies: {saturated} pixels of body colours"
         ));
     }
+    platformer_window(root, &binary, &dir, &runtime)?;
     let _ = std::fs::remove_dir_all(&dir);
+    Ok(())
+}
+
+/// The platformer played by its scripted keys (`--keys demo`) in a real window: it must end
+/// exactly where the native runner's run ends (the same state hash), with its three coins and
+/// the flag, never having sunk a centimetre into the ground, and its step well under a
+/// millisecond.
+fn platformer_window(root: &Path, binary: &Path, dir: &Path, runtime: &Path) -> Result<(), String> {
+    let stats = dir.join("platformer.json");
+    let steps = web::PLATFORMER_STEPS.to_string();
+    let mut run = Command::new("xvfb-run");
+    run.args(["-a", "-s", "-screen 0 1280x800x24"])
+        .arg(binary)
+        .args(["--scene", "platformer", "--keys", "demo", "--steps", &steps])
+        .args(["--threads", "2", "--stats"])
+        .arg(&stats)
+        .current_dir(root)
+        .env("XDG_RUNTIME_DIR", runtime)
+        .env("TUMBLE_CONFIG_DIR", dir.join("config"));
+    run_status(
+        &mut run,
+        "xvfb-run ... tumble --scene platformer --keys demo --steps 900",
+    )?;
+    let text = std::fs::read_to_string(&stats)
+        .map_err(|e| format!("no stats at {}: {e}", stats.display()))?;
+    let native = web::native_state_hash(root, &web::platformer_run())?;
+    let hash = web::state_hash_of(&text).ok_or_else(|| format!("no state_hash: {text}"))?;
+    if hash != native {
+        return Err(format!(
+            "the platformer in the window ends at state {hash}, the runner's run at {native}: {text}"
+        ));
+    }
+    if json_number(&text, "scene_steps")? != web::PLATFORMER_STEPS as f64 {
+        return Err(format!("the window did not stop at its --steps: {text}"));
+    }
+    if json_number(&text, "coins")? != 3.0 {
+        return Err(format!(
+            "the character did not take the three coins: {text}"
+        ));
+    }
+    let reached = json_number(&text, "reached_flag")
+        .map_err(|e| format!("the character did not reach the flag ({e}): {text}"))?;
+    let deepest = json_number(&text, "deepest")?;
+    if deepest > 0.01 {
+        return Err(format!(
+            "the character sank {deepest} m into the ground: {text}"
+        ));
+    }
+    println!(
+        "platformer window: the flag at step {reached}, 3 coins, deepest {deepest} m, state {hash} as natively, {:.3} ms a step",
+        json_number(&text, "step_ms_mean")?
+    );
     Ok(())
 }
 

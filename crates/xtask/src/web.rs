@@ -506,7 +506,11 @@ pub fn browser_tests(root: &Path) -> Result<(), String> {
             .current_dir(&tests),
         "npm ci (tests/browser: playwright-core)",
     )?;
-    let native_hash = native_state_hash(root)?;
+    let native_hash = native_state_hash(
+        root,
+        &["falling_circles", "--steps", "120", "--threads", "1"],
+    )?;
+    let platformer_hash = native_state_hash(root, &platformer_run())?;
     let isolated = Server::start(&bundle, true)?;
     let plain = Server::start(&bundle, false)?;
     let out = target_dir(root).join("browser-tests");
@@ -526,23 +530,43 @@ pub fn browser_tests(root: &Path) -> Result<(), String> {
             .env("TUMBLE_URL", isolated.url())
             .env("TUMBLE_URL_NOT_ISOLATED", plain.url())
             .env("TUMBLE_OUT", &out)
-            .env("TUMBLE_NATIVE_HASH", native_hash),
+            .env("TUMBLE_NATIVE_HASH", native_hash)
+            .env("TUMBLE_PLATFORMER_HASH", platformer_hash)
+            .env("TUMBLE_PLATFORMER_STEPS", PLATFORMER_STEPS.to_string()),
         "node --test tests/browser/web.test.mjs",
     )
 }
 
-/// The state hash of `falling_circles` after 120 steps on one thread, from the native runner
-/// (the browser tests check that the page gets the same at 1 and 2 threads).
-fn native_state_hash(root: &Path) -> Result<String, String> {
+/// Steps of the platformer's scripted run (its `--keys demo`) that the viewer, the page and
+/// the runner take: the flag is reached before them.
+pub const PLATFORMER_STEPS: u64 = 900;
+
+/// The runner's arguments for the platformer's scripted run on one thread.
+pub fn platformer_run() -> Vec<String> {
+    ["platformer", "--keys", "demo", "--threads", "1", "--steps"]
+        .iter()
+        .map(|s| s.to_string())
+        .chain([PLATFORMER_STEPS.to_string()])
+        .collect()
+}
+
+/// The state hash of a native run (`tumble-bench run ARGS`): `falling_circles` after 120
+/// steps on one thread, which the page must get at 1 and 2 threads, and the platformer's
+/// scripted run, which the page and the viewer must get.
+pub fn native_state_hash(
+    root: &Path,
+    args: &[impl AsRef<std::ffi::OsStr>],
+) -> Result<String, String> {
     let out = Command::new(cargo())
         .args(["run", "--quiet", "-j2", "-p", "tumble-bench", "--"])
-        .args(["run", "falling_circles", "--steps", "120", "--threads", "1"])
+        .arg("run")
+        .args(args)
         .current_dir(root)
         .output()
         .map_err(|e| format!("cannot run tumble-bench for the native state hash: {e}"))?;
     if !out.status.success() {
         return Err(format!(
-            "tumble-bench run falling_circles failed: {}",
+            "tumble-bench run failed: {}",
             String::from_utf8_lossy(&out.stderr)
         ));
     }
@@ -551,7 +575,7 @@ fn native_state_hash(root: &Path) -> Result<String, String> {
 }
 
 /// The value of `"state_hash": "<16 hex digits>"` in a runner's JSON.
-fn state_hash_of(json: &str) -> Option<String> {
+pub fn state_hash_of(json: &str) -> Option<String> {
     let rest = &json[json.find("\"state_hash\"")? + "\"state_hash\"".len()..];
     let hash: String = rest
         .trim_start_matches([' ', ':', '"'])

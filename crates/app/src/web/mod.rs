@@ -222,12 +222,13 @@ pub fn url_options(search: &str) -> anyhow::Result<Options> {
         }
         None => None,
     };
-    let keys = match params.get("keys").filter(|k| !k.is_empty()) {
-        Some(text) => Some(
-            tumble_scene::sample::KeyScript::parse(&text)
+    let keys = match (params.get("keys").filter(|k| !k.is_empty()), &scene) {
+        (Some(text), Some(scene)) => Some(
+            tumble_scene::sample::KeyScript::for_scene(&text, scene)
                 .map_err(|e| anyhow::anyhow!("keys={text}: {e}"))?,
         ),
-        None => None,
+        (Some(text), None) => anyhow::bail!("keys={text}: give the scene too (scene=platformer)"),
+        (None, _) => None,
     };
     let steps = match params.get("steps") {
         Some(t) => Some(
