@@ -45,6 +45,8 @@ const EXPECTED: &[(&str, u64)] = &[
     ("ragdoll", 0xd7f4c48b6afd0f3e),
     ("rain", 0x113a97d578931784),
     ("washer", 0x3f0d3b21a1620c17),
+    // Added with the platformer (issue 35), after the redesign: its own figure.
+    ("platformer", 0x35275ced520670ac),
     ("bouncing_balls.json", 0xda16bb21533dbd40),
     ("capsule_stairs.ron", 0xc17a8132dc89062b),
     ("car.ron", 0xf3091bd9c1026f16),
