@@ -45,8 +45,21 @@ const EXPECTED: &[(&str, u64)] = &[
     ("ragdoll", 0xd7f4c48b6afd0f3e),
     ("rain", 0x113a97d578931784),
     ("washer", 0x3f0d3b21a1620c17),
-    // Added with the platformer (issue 35), after the redesign: its own figure.
+    // Added with the samples of issue 35, after the redesign: their own figures.
     ("platformer", 0x35275ced520670ac),
+    // The feature samples (issue 35): their own figures.
+    ("forces", 0x250840f7e525757c),
+    ("materials", 0x44562269ee957d7a),
+    ("conveyor_belts", 0xb98c619e8fc5e0ac),
+    ("rolling_resistance", 0xab528edede71c1cf),
+    ("one_way_platforms", 0x1e4d19b050fe7d23),
+    ("explosions", 0x7ae4e1a9363baebb),
+    ("breakable_joints", 0x469e7bea10649538),
+    ("sensors", 0x3975bea4739c2bba),
+    ("ray_casts", 0xe34c792deea31017),
+    ("contact_events", 0xf3e98fe77d318071),
+    ("sleep_and_wake", 0x84556d0ec3ea23b7),
+    ("bullets", 0x14f41ac64de06719),
     ("bouncing_balls.json", 0xda16bb21533dbd40),
     ("capsule_stairs.ron", 0xc17a8132dc89062b),
     ("car.ron", 0xf3091bd9c1026f16),

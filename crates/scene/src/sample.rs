@@ -10,6 +10,7 @@
 use serde::{Deserialize, Serialize};
 use tumble_physics::{SceneDef, World};
 
+use crate::builtin::features::Feature;
 use crate::builtin::platformer::Platformer;
 
 /// Where a sample sits in the sample browser (Box2D's samples app's categories, and the
@@ -169,7 +170,7 @@ impl KeyScript {
     /// [`KeyScript::parse`] reads it.
     pub fn for_scene(text: &str, scene: &SceneDef) -> Result<KeyScript, String> {
         if text.trim() == "demo" {
-            return match Controller::for_scene(scene) {
+            return match Controller::for_scene(scene).filter(|c| !c.demo_keys().is_empty()) {
                 Some(c) => KeyScript::parse(c.demo_keys()),
                 None => Err(format!(
                     "keys `demo`: {} has no demo run (a sample a person plays has: platformer)",
@@ -200,6 +201,8 @@ impl KeyScript {
 pub enum Controller {
     /// The platformer's character and score.
     Platformer(Box<Platformer>),
+    /// A feature sample's counts and drawing.
+    Feature(Box<Feature>),
 }
 
 impl Controller {
@@ -215,6 +218,7 @@ impl Controller {
     pub fn install(&self, world: &mut World) {
         match self {
             Controller::Platformer(_) => Platformer::install(world),
+            Controller::Feature(f) => f.install(world),
         }
     }
 
@@ -222,6 +226,7 @@ impl Controller {
     pub fn before_step(&mut self, step: u64, keys: Keys, world: &mut World) {
         match self {
             Controller::Platformer(p) => p.before_step(step, keys, world),
+            Controller::Feature(f) => f.before_step(step, keys, world),
         }
     }
 
@@ -229,6 +234,7 @@ impl Controller {
     pub fn after_step(&mut self, step: u64, world: &mut World) {
         match self {
             Controller::Platformer(p) => p.after_step(step, world),
+            Controller::Feature(f) => f.after_step(step, world),
         }
     }
 
@@ -236,6 +242,7 @@ impl Controller {
     pub fn status(&self) -> Vec<String> {
         match self {
             Controller::Platformer(p) => p.status(),
+            Controller::Feature(f) => f.lines.clone(),
         }
     }
 
@@ -243,13 +250,16 @@ impl Controller {
     pub fn draw(&self, draw: &mut impl tumble_physics::draw::DebugDraw) {
         match self {
             Controller::Platformer(p) => p.draw(draw),
+            Controller::Feature(f) => f.draw(draw),
         }
     }
 
-    /// The sample's own run through its level, as a key script (`--keys demo`).
+    /// The sample's own run through its level, as a key script (`--keys demo`); empty for
+    /// a sample that has none.
     pub fn demo_keys(&self) -> &'static str {
         match self {
             Controller::Platformer(_) => crate::builtin::platformer::SCRIPT,
+            Controller::Feature(_) => "",
         }
     }
 
@@ -257,6 +267,7 @@ impl Controller {
     pub fn focus(&self) -> Option<tumble_physics::Vec2> {
         match self {
             Controller::Platformer(p) => Some(p.position),
+            Controller::Feature(_) => None,
         }
     }
 
@@ -264,6 +275,7 @@ impl Controller {
     pub fn finished(&self) -> bool {
         match self {
             Controller::Platformer(p) => p.reached_flag.is_some(),
+            Controller::Feature(_) => false,
         }
     }
 }
