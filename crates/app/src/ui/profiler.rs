@@ -44,7 +44,8 @@ pub struct Sweep {
 
 impl Sweep {
     /// Starts sweeping `sim`'s scene (from its start, with its current settings and
-    /// substeps) at 1..=`max_threads` threads on a background thread.
+    /// substeps, its script and its sample's controller) at 1..=`max_threads` threads on a
+    /// background thread.
     pub fn start(&mut self, sim: &Sim, max_threads: usize) {
         let (tx, rx) = channel();
         let scene = Arc::clone(&sim.scene);
@@ -109,9 +110,26 @@ fn run_sweep(
         };
         *world.settings_mut() = settings;
         world.set_thread_count(threads);
+        // What runs between steps runs here too (junkyard's pusher, a sample's controller
+        // with no key held: the platformer's elevator), so the sweep times the scene's step.
+        let script = tumble_scene::builtin::script_for(scene);
+        let mut controller = tumble_scene::sample::Controller::for_scene(scene);
+        if let Some(c) = &controller {
+            c.install(&mut world);
+        }
         let mut ms = 0.0;
         for i in 0..per {
+            let step = u64::from(i);
+            if let Some(script) = script {
+                script(step, &mut world);
+            }
+            if let Some(c) = &mut controller {
+                c.before_step(step, tumble_scene::sample::Keys::NONE, &mut world);
+            }
             world.step(scene.dt, substeps.max(1));
+            if let Some(c) = &mut controller {
+                c.after_step(step, &mut world);
+            }
             if i >= SWEEP_WARMUP_STEPS {
                 ms += world.profile().step_ms;
             }
