@@ -60,6 +60,7 @@ const EXPECTED: &[(&str, u64)] = &[
     ("contact_events", 0xf3e98fe77d318071),
     ("sleep_and_wake", 0x84556d0ec3ea23b7),
     ("bullets", 0x14f41ac64de06719),
+    ("joint_kinds", 0x22ded22b9bcdfa6a),
     ("bouncing_balls.json", 0xda16bb21533dbd40),
     ("capsule_stairs.ron", 0xc17a8132dc89062b),
     ("car.ron", 0xf3091bd9c1026f16),

@@ -511,6 +511,17 @@ const BUILTINS: &[Builtin] = &[
         keys: &[],
         controller: None,
     },
+    Builtin {
+        name: "joint_kinds",
+        build: features::joint_kinds,
+        sleeps: false,
+        script: None,
+        description: "Each joint kind side by side: a revolute arm driven against its limit, a prismatic slider lifted to its limit, a sprung wheel spinning, a ball on a springy rope with length limits, a plank on a soft weld, a box held by a motor joint. \
+            Shows every joint's limits, motors and springs, from a scene file.",
+        category: Category::Joints,
+        keys: &[],
+        controller: None,
+    },
 ];
 
 /// The forces sample's controller.
@@ -2010,7 +2021,7 @@ mod tests {
 
     #[test]
     fn every_name_builds_describes_and_validates() {
-        assert_eq!(names().len(), 42);
+        assert_eq!(names().len(), 43);
         for &name in names() {
             let scene = build(name).unwrap_or_else(|| panic!("{name} does not build"));
             assert_eq!(scene.name, name);

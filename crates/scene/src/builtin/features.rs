@@ -607,6 +607,20 @@ pub fn bullets() -> SceneDef {
     scene
 }
 
+/// Each joint kind with its limits, motors and springs, side by side: a revolute arm driven
+/// against its limit, a prismatic slider lifted to its limit, a sprung wheel spinning, a ball
+/// on a springy rope with length limits, a plank on a soft weld, a box held by a motor joint.
+/// The scene is data: `joint_kinds.ron`, beside this file.
+pub fn joint_kinds() -> SceneDef {
+    crate::parse(
+        include_bytes!("joint_kinds.ron"),
+        crate::Format::Ron,
+        "joint_kinds.ron (built-in)",
+        &crate::LoadLimits::default(),
+    )
+    .expect("the built-in joint_kinds.ron is a valid scene")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -640,6 +654,7 @@ mod tests {
             "contact_events",
             "sleep_and_wake",
             "bullets",
+            "joint_kinds",
         ] {
             let scene = crate::builtin::build(name).unwrap();
             let script = KeyScript::parse("0:jump+,30:jump-,30:left+,45:left-").unwrap();
@@ -649,6 +664,28 @@ mod tests {
             assert_eq!(one.0.state_hash(), two.0.state_hash(), "{name}");
             assert_eq!(one.1, two.1, "{name}");
         }
+    }
+
+    #[test]
+    fn every_joint_kind_holds_its_limit_or_its_target() {
+        let (world, _) = run("joint_kinds", "", 240);
+        let joints: Vec<_> = world.joint_ids().collect();
+        // The revolute motor drives the arm to its upper limit (0.5 rad), within the soft
+        // step's limit error of a few hundredths.
+        let angle = world.revolute_angle(joints[0]).unwrap();
+        assert!((angle - 0.5).abs() < 0.05, "{angle}");
+        // The prismatic motor lifts the slider to its upper limit (1 m).
+        let t = world.prismatic_translation(joints[1]).unwrap();
+        assert!((t - 1.0).abs() < 0.02, "{t}");
+        // The wheel spins at its motor's speed.
+        let w = body(&world, 6).angular_velocity;
+        assert!((w - 5.0).abs() < 0.1, "{w}");
+        // The rope stays within its limits.
+        let l = world.distance_length(joints[3]).unwrap();
+        assert!((1.5 - 0.02..=2.5 + 0.02).contains(&l), "{l}");
+        // The motor joint holds its box at (16, 4.5) within 2 cm.
+        let p = body(&world, 11).position;
+        assert!((p - Vec2::new(16.0, 4.5)).length() < 0.02, "{p}");
     }
 
     #[test]
