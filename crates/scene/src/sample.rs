@@ -8,7 +8,7 @@
 //! keys at the same steps give the same states natively, in the browser and in tests.
 
 use serde::{Deserialize, Serialize};
-use tumble_physics::{SceneDef, World};
+use tumble_physics::{BodyId, PreSolve, SceneDef, ShapeId, World};
 
 use crate::builtin::features::Feature;
 use crate::builtin::platformer::Platformer;
@@ -278,6 +278,32 @@ impl Controller {
             Controller::Feature(_) => false,
         }
     }
+}
+
+/// The first shape of the scene's body number `index` (a sample names its bodies by their
+/// place in its scene).
+pub fn scene_shape(world: &World, index: usize) -> Option<ShapeId> {
+    world
+        .body_shapes(BodyId::scene(index))
+        .ok()?
+        .next()
+        .map(|s| s.id)
+}
+
+/// A pre-solve hook that makes `decks` one-way platforms: a contact with one pushes only
+/// when its normal pushes the other shape up (more than 60 degrees from the horizontal);
+/// every other contact pushes as usual.
+pub fn one_way_platforms(decks: Vec<ShapeId>) -> PreSolve {
+    Box::new(move |a, b, normal| {
+        let up = if decks.contains(&a) {
+            normal
+        } else if decks.contains(&b) {
+            -normal
+        } else {
+            return true;
+        };
+        up.y > 0.5
+    })
 }
 
 /// Plays `scene` for `steps` steps with the keys of `script`, as the viewer does (its

@@ -7,21 +7,11 @@
 use serde::{Deserialize, Serialize};
 use tumble_physics::{
     BodyDef, BodyId, BodyKind, Event, ExplosionDef, Filter, JointDef, PartDef, QueryFilter,
-    SceneDef, ShapeDef, ShapeId, Vec2, World,
+    SceneDef, ShapeId, Vec2, World,
 };
 
-use crate::sample::Keys;
-
-fn rect(hx: f32, hy: f32) -> ShapeDef {
-    ShapeDef::Box {
-        half_extents: [hx, hy],
-        radius: 0.0,
-    }
-}
-
-fn ball(radius: f32) -> ShapeDef {
-    ShapeDef::Circle { radius }
-}
+use super::{circle as ball, rect};
+use crate::sample::{self, Keys, scene_shape};
 
 /// A scene named `name` with a 60 m floor whose top is y = 0 and walls at x = ±20, 12 m
 /// tall (scene bodies 0, 1 and 2).
@@ -40,15 +30,6 @@ fn arena(name: &str) -> SceneDef {
         );
     }
     scene
-}
-
-/// The first shape of scene body `index`.
-fn shape_of(world: &World, index: usize) -> Option<ShapeId> {
-    world
-        .body_shapes(BodyId::scene(index))
-        .ok()?
-        .next()
-        .map(|s| s.id)
 }
 
 /// The one-way platforms' filter category.
@@ -106,17 +87,11 @@ impl Feature {
         if self.kind != Kind::OneWay {
             return;
         }
-        let decks: Vec<ShapeId> = [3, 4].iter().filter_map(|&i| shape_of(world, i)).collect();
-        world.set_pre_solve(Some(Box::new(move |a, b, normal| {
-            let up = if decks.contains(&a) {
-                normal
-            } else if decks.contains(&b) {
-                -normal
-            } else {
-                return true;
-            };
-            up.y > 0.5
-        })));
+        let decks: Vec<ShapeId> = [3, 4]
+            .iter()
+            .filter_map(|&i| scene_shape(world, i))
+            .collect();
+        world.set_pre_solve(Some(sample::one_way_platforms(decks)));
     }
 
     /// Before step `step`, with `keys` held.
@@ -152,11 +127,11 @@ impl Feature {
                 // Every two seconds the ramp's friction takes the next of three values, and
                 // every three the gate opens or closes (its filter touches nothing, or all).
                 let friction = [0.0, 0.3, 1.0][((step / 120) % 3) as usize];
-                if let Some(ramp) = shape_of(world, MATERIAL_RAMP) {
+                if let Some(ramp) = scene_shape(world, MATERIAL_RAMP) {
                     let _ = world.set_friction(ramp, friction);
                 }
                 let open = (step / 180) % 2 == 1;
-                if let Some(gate) = shape_of(world, MATERIAL_GATE) {
+                if let Some(gate) = scene_shape(world, MATERIAL_GATE) {
                     let filter = Filter {
                         mask: if open { 0 } else { u64::MAX },
                         ..Filter::default()
@@ -267,7 +242,7 @@ impl Feature {
                 ];
             }
             Kind::Sensors => {
-                let Some(sensor) = shape_of(world, SENSOR) else {
+                let Some(sensor) = scene_shape(world, SENSOR) else {
                     return;
                 };
                 let overlaps = world.sensor_overlaps(sensor).unwrap_or_default();
@@ -775,7 +750,7 @@ mod tests {
                 .trim_start_matches("In the sensor: ")
                 .parse()
                 .unwrap();
-            let sensor = shape_of(w, SENSOR).unwrap();
+            let sensor = scene_shape(w, SENSOR).unwrap();
             assert_eq!(n, w.sensor_overlaps(sensor).unwrap().len());
             seen = seen.max(n);
         })

@@ -23,7 +23,8 @@ use tumble_physics::{
     SceneDef, ShapeDef, ShapeId, Vec2, World,
 };
 
-use crate::sample::Keys;
+use super::rect;
+use crate::sample::{Keys, one_way_platforms, scene_shape};
 
 /// Filter categories of the level. The ground keeps the default category (1).
 pub const CHARACTER: u64 = 1 << 1;
@@ -103,13 +104,6 @@ pub struct Layout {
     pub first_plank: usize,
     /// The heavy crate by the bridge.
     pub heavy_crate: usize,
-}
-
-fn rect(hx: f32, hy: f32) -> ShapeDef {
-    ShapeDef::Box {
-        half_extents: [hx, hy],
-        radius: 0.0,
-    }
 }
 
 /// A part of the ground: an axis-aligned box from `x0` to `x1` whose top is at `top`,
@@ -365,15 +359,6 @@ impl Default for Platformer {
     }
 }
 
-/// The first shape of a scene body.
-fn first_shape(world: &World, index: usize) -> Option<ShapeId> {
-    world
-        .body_shapes(BodyId::scene(index))
-        .ok()?
-        .next()
-        .map(|s| s.id)
-}
-
 impl Platformer {
     fn layout() -> Layout {
         static LAYOUT: std::sync::LazyLock<Layout> = std::sync::LazyLock::new(|| build().1);
@@ -411,19 +396,9 @@ impl Platformer {
     /// Sets the world's hooks (they are not part of a snapshot): the one-way platform lets a
     /// body through unless the contact pushes it up.
     pub fn install(world: &mut World) {
-        let Some(deck) = first_shape(world, Self::layout().one_way) else {
-            return;
-        };
-        world.set_pre_solve(Some(Box::new(move |a, b, normal| {
-            let up = if a == deck {
-                normal
-            } else if b == deck {
-                -normal
-            } else {
-                return true;
-            };
-            up.y > 0.5
-        })));
+        if let Some(deck) = scene_shape(world, Self::layout().one_way) {
+            world.set_pre_solve(Some(one_way_platforms(vec![deck])));
+        }
     }
 
     /// Before step `step`: moves the elevator and the character by the keys held.
