@@ -233,7 +233,8 @@ fn test_steps() -> Vec<Step> {
             components: &[],
             action: Action::Check(
                 "tumble --scene pyramid --frames 300 --threads 2 in a window under Xvfb; \
-                 check its screenshot and stats",
+                 check its screenshot and stats; play the platformer by its scripted keys \
+                 to the runner's state",
                 viewer_window,
             ),
         },
@@ -246,8 +247,8 @@ fn test_steps() -> Vec<Step> {
             components: &[],
             action: Action::Check(
                 "clippy on the wasm build; build the web bundle, serve it, and test it in \
-                 chromium (WebGL2 and WebGPU, threads, the thread slider) with node --test \
-                 and playwright-core",
+                 chromium (WebGL2 and WebGPU, threads, the thread slider, the platformer \
+                 by scripted and by real keys) with node --test and playwright-core",
                 web::browser_tests,
             ),
         },
