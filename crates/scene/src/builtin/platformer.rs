@@ -421,7 +421,11 @@ impl Platformer {
         if step == BRIDGE_SETTLED {
             // The hinges pull up to several times their resting force while the bridge
             // settles from its V; its threshold applies from then on.
-            for joint in world.joint_ids().collect::<Vec<_>>() {
+            let hinges: Vec<JointId> = world
+                .joint_ids()
+                .filter(|&j| Self::is_bridge_hinge(world, j))
+                .collect();
+            for joint in hinges {
                 let _ = world.set_joint_thresholds(joint, BRIDGE_BREAK_FORCE, f32::INFINITY);
             }
         }
@@ -590,7 +594,9 @@ impl Platformer {
                         self.reached_flag.get_or_insert(step);
                     }
                 }
-                Event::JointThreshold { joint, .. } => broken.push(joint),
+                Event::JointThreshold { joint, .. } if Self::is_bridge_hinge(world, joint) => {
+                    broken.push(joint);
+                }
                 _ => {}
             }
         }
@@ -606,6 +612,16 @@ impl Platformer {
                 self.broken_hinges += 1;
             }
         }
+    }
+
+    /// Whether `joint` is one of the bridge's hinges (not, say, the viewer's mouse joint).
+    fn is_bridge_hinge(world: &World, joint: JointId) -> bool {
+        let first = Self::layout().first_plank;
+        world.joint_bodies(joint).is_ok_and(|bodies| {
+            bodies
+                .iter()
+                .any(|&b| (first..first + PLANKS).any(|k| BodyId::scene(k) == b))
+        })
     }
 
     /// Lines for the panel: the score and the character's state.
@@ -806,6 +822,41 @@ mod tests {
         let y = world.body(dropped).unwrap().position.y;
         assert!((y - 1.4).abs() < 0.02, "{y}");
         assert!(thrown_highest > 1.5, "{thrown_highest}");
+    }
+
+    #[test]
+    fn only_the_bridge_hinges_get_the_threshold_and_break() {
+        // A mouse joint (the viewer's) pulling a box hard from before the bridge settles.
+        let scene = scene();
+        let mut world = World::from_scene(&scene, &tumble_physics::Limits::default()).unwrap();
+        Platformer::install(&mut world);
+        let boxed = world
+            .bodies()
+            .find(|(_, b)| b.kind == BodyKind::Dynamic && b.position.x < -7.0)
+            .map(|(id, _)| id)
+            .unwrap();
+        let mouse = world
+            .create_mouse_joint(boxed, Vec2::new(-8.0, 0.4), 5.0, 0.7, 1e5)
+            .unwrap();
+        world.set_mouse_target(mouse, Vec2::new(-8.0, 6.0)).unwrap();
+        let mut p = Platformer::default();
+        for step in 0..120 {
+            p.before_step(step, Keys::NONE, &mut world);
+            world.step(DT, 4);
+            p.after_step(step, &mut world);
+        }
+        assert_eq!(
+            world.joint_thresholds(mouse),
+            Ok((f32::INFINITY, f32::INFINITY))
+        );
+        let hinges = world.joint_ids().filter(|&j| j != mouse).count();
+        assert_eq!(hinges, PLANKS + 1);
+        for j in world.joint_ids().filter(|&j| j != mouse) {
+            assert_eq!(
+                world.joint_thresholds(j),
+                Ok((BRIDGE_BREAK_FORCE, f32::INFINITY))
+            );
+        }
     }
 
     #[test]
