@@ -472,8 +472,10 @@ const BUILTINS: &[Builtin] = &[
         build: features::ray_casts,
         sleeps: false,
         script: None,
-        description: "A ray sweeping over a pile of boxes and balls from above; every hit is listed and drawn. \
-            Shows cast_ray_all: each shape the ray crosses, where and how far along.",
+        description: "A ray sweeping over a pile of boxes and balls from above, every hit listed and drawn, \
+            and a ball cast down onto the pile from a place that drifts across it. Shows cast_ray_all \
+            (each shape the ray crosses, where and how far along) and cast_shape_closest (where the ball \
+            would first land, and the normal there).",
         category: Category::Events,
         keys: &[],
         controller: Some(ray_casts_controller),

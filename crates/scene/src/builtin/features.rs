@@ -1,6 +1,6 @@
 //! Small samples, one game feature each (issue 35): forces and torques, run-time material and
 //! filter changes, conveyor belts, rolling resistance, one-way platforms, explosions,
-//! breakable joints, sensors with their overlaps listed, ray casts, contact events, sleep and
+//! breakable joints, sensors with their overlaps listed, ray and shape casts, contact events, sleep and
 //! wake, bullets. Each is a scene and, where the feature is a call made between steps, a
 //! [`Feature`] controller that makes it, built on the library's public calls only.
 
@@ -50,7 +50,7 @@ pub enum Kind {
     BreakableJoints,
     /// A sensor listing what overlaps it.
     Sensors,
-    /// A ray sweeping the scene, its hits listed.
+    /// A ray sweeping the scene, its hits listed, and a ball cast down onto the pile.
     RayCasts,
     /// Contact begins, ends and hits counted.
     ContactEvents,
@@ -69,6 +69,31 @@ pub struct Feature {
     pub lines: Vec<String>,
     /// A ray cast this step and the points it hit, to draw.
     pub ray: Option<(Vec2, Vec2, Vec<Vec2>)>,
+    /// A ball cast this step, to draw.
+    pub cast: Option<BallCast>,
+}
+
+/// A ball moved without turning from `from` along `translation` (`cast_shape_closest`), and
+/// where it first meets a shape.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BallCast {
+    /// Where the ball's centre starts.
+    pub from: Vec2,
+    /// How far it is moved.
+    pub translation: Vec2,
+    /// Its radius (m).
+    pub radius: f32,
+    /// The first hit: the fraction of the translation, the point on the other shape and
+    /// that shape's outward normal there.
+    pub hit: Option<(f32, Vec2, Vec2)>,
+}
+
+impl BallCast {
+    /// Where the ball's centre stops: at the first hit, or at the end of the translation.
+    pub fn stop(&self) -> Vec2 {
+        let t = self.hit.map_or(1.0, |(t, _, _)| t);
+        self.from + t * self.translation
+    }
 }
 
 impl Feature {
@@ -79,6 +104,7 @@ impl Feature {
             counts: [0; 4],
             lines: Vec::new(),
             ray: None,
+            cast: None,
         }
     }
 
@@ -202,6 +228,39 @@ impl Feature {
                     ));
                 }
                 self.ray = Some((from, to, hits.iter().map(|h| h.point).collect()));
+                // A ball dropped from above at a place that drifts over the pile: where it
+                // would first land.
+                let radius = 0.6;
+                let ball_shape = tumble_physics::Shape::Circle(tumble_physics::Circle { radius });
+                let from = Vec2::new(9.0 * ((step as f32) * 0.007).sin(), 9.0);
+                let translation = Vec2::new(0.0, -8.9);
+                let pose = tumble_physics::Transform {
+                    p: from,
+                    q: tumble_physics::Rot::IDENTITY,
+                };
+                let hit = world.cast_shape_closest(
+                    &ball_shape,
+                    pose,
+                    translation,
+                    &QueryFilter::default(),
+                );
+                let cast = BallCast {
+                    from,
+                    translation,
+                    radius,
+                    hit: hit.map(|h| (h.fraction, h.point, h.normal)),
+                };
+                self.lines.push(match (hit, cast.hit) {
+                    (Some(h), Some((t, p, _))) => format!(
+                        "Ball cast: meets {} at ({:.2}, {:.2}), {:.0}% down",
+                        h.shape.body,
+                        p.x,
+                        p.y,
+                        100.0 * t
+                    ),
+                    _ => "Ball cast: meets nothing".to_string(),
+                });
+                self.cast = Some(cast);
             }
             Kind::SleepAndWake => {
                 // Every four seconds a ball is dropped on the pile, which wakes it.
@@ -282,6 +341,32 @@ impl Feature {
                 draw.draw_point(p, 0.15, colors::TOUCHING);
             }
         }
+        if let Some(cast) = &self.cast {
+            let stop = cast.stop();
+            draw.draw_segment(cast.from, stop, colors::AXIS);
+            ring(draw, cast.from, cast.radius, colors::AXIS);
+            ring(draw, stop, cast.radius, colors::LIMIT);
+            if let Some((_, p, n)) = cast.hit {
+                draw.draw_point(p, 0.15, colors::TOUCHING);
+                draw.draw_segment(p, p + 0.5 * n, colors::NORMAL);
+            }
+        }
+    }
+}
+
+/// A circle's outline, 24 sides.
+fn ring(
+    draw: &mut impl tumble_physics::draw::DebugDraw,
+    centre: Vec2,
+    radius: f32,
+    color: [f32; 4],
+) {
+    let at = |k: usize| {
+        let a = k as f32 * std::f32::consts::TAU / 24.0;
+        centre + radius * Vec2::new(a.cos(), a.sin())
+    };
+    for k in 0..24 {
+        draw.draw_segment(at(k), at(k + 1), color);
     }
 }
 
@@ -502,7 +587,7 @@ pub fn sensors() -> SceneDef {
 }
 
 /// A ray sweeping over a pile of boxes and balls from above, every hit listed and drawn
-/// (`cast_ray_all`).
+/// (`cast_ray_all`), and a ball cast down onto the pile (`cast_shape_closest`).
 pub fn ray_casts() -> SceneDef {
     let mut scene = arena("ray_casts");
     for k in 0..12 {
@@ -770,6 +855,48 @@ mod tests {
         for p in hits {
             assert!((p - from).perp_dot(d).abs() < 1e-3, "{p} off the ray");
         }
+    }
+
+    #[test]
+    fn the_cast_ball_stops_touching_what_it_meets() {
+        // Every 20 steps once the pile has settled (2 s), over the ball's drift across it:
+        // where it meets something, its centre stops a radius from the hit point (to 1 cm:
+        // the cast stops rounded surfaces a linear slop, 5 mm, into each other), the hit
+        // below it, the normal up, and nothing overlaps the ball lifted by that centimetre.
+        let (mut looked, mut met) = (0, 0);
+        let scene = crate::builtin::build("ray_casts").unwrap();
+        play(&scene, &KeyScript::default(), 600, 1, |step, world, c| {
+            if step < 120 || step % 20 != 0 {
+                return;
+            }
+            let Some(Controller::Feature(f)) = c else {
+                panic!()
+            };
+            let cast = f.cast.unwrap();
+            looked += 1;
+            let Some((t, p, n)) = cast.hit else { return };
+            met += 1;
+            let stop = cast.stop();
+            assert!((0.0..=1.0).contains(&t));
+            assert!(((stop - p).length() - cast.radius).abs() < 0.01, "{cast:?}");
+            assert!(p.y < stop.y && n.y > 0.0, "{cast:?}");
+            let pose = tumble_physics::Transform {
+                p: stop + Vec2::new(0.0, 0.01),
+                q: tumble_physics::Rot::IDENTITY,
+            };
+            let ball = tumble_physics::Shape::Circle(tumble_physics::Circle {
+                radius: cast.radius,
+            });
+            let mut overlaps = 0;
+            world.overlap_shape(&ball, pose, &QueryFilter::default(), |_| {
+                overlaps += 1;
+                true
+            });
+            assert_eq!(overlaps, 0, "step {step}: {cast:?}");
+        })
+        .unwrap();
+        // The floor is under the whole drift, so the ball always meets something.
+        assert_eq!((looked, met), (24, 24));
     }
 
     #[test]
