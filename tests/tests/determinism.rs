@@ -308,7 +308,19 @@ fn run_workers(scene: &SceneDef, steps: u32, workers: usize) -> (Run, usize) {
 /// [`run_workers`]; with `strict` off, a step the solver ran on fewer workers (too few
 /// touching contacts to share: a grid still asleep) is allowed.
 fn run_workers_with(scene: &SceneDef, steps: u32, workers: usize, strict: bool) -> (Run, usize) {
+    run_workers_tweaked(scene, steps, workers, strict, |_| {})
+}
+
+/// [`run_workers_with`] with the step settings changed by `tweak` first.
+fn run_workers_tweaked(
+    scene: &SceneDef,
+    steps: u32,
+    workers: usize,
+    strict: bool,
+    tweak: impl Fn(&mut StepSettings),
+) -> (Run, usize) {
     let mut w = world(scene);
+    tweak(w.settings_mut());
     w.set_workers_beyond_cores(true);
     w.set_thread_count(workers);
     let mut overflow = 0;
@@ -439,6 +451,23 @@ fn benchmark_scenes_are_bit_identical_on_1_to_4_real_workers() {
         let (other, _) = run_workers_with(&asleep, 60, workers, false);
         assert_same(&one, &other);
     }
+}
+
+#[test]
+fn points_solved_together_are_bit_identical_on_1_to_4_real_workers() {
+    // `solve_points_together` (issue 36) in the SIMD lanes and in the overflow's scalar
+    // constraints alike: the pyramid with its plank's overflow and the pusher.
+    let pyramid = pyramid_with_overflow_and_kinematic();
+    let together = |s: &mut StepSettings| s.solve_points_together = true;
+    let (one, overflow) = run_workers_tweaked(&pyramid, 60, 1, true, together);
+    assert!(overflow >= 10, "overflow {overflow}");
+    for workers in 2..=4 {
+        let (other, _) = run_workers_tweaked(&pyramid, 60, workers, true, together);
+        assert_same(&one, &other);
+    }
+    // And it changes the result: the setting really ran.
+    let (apart, _) = run_workers(&pyramid, 60, 1);
+    assert_ne!(one.hash, apart.hash);
 }
 
 #[test]

@@ -120,6 +120,10 @@ pub struct SolverDef {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub time_to_sleep: Option<f32>,
+    /// Solve a manifold's two points together where they are well apart, so that a body
+    /// dropped flat lands straight (default false: one after the other, as Box2D v3).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub solve_points_together: Option<bool>,
 }
 
 /// Most relax or restitution passes a scene may ask for: each is a full pass over every
@@ -158,6 +162,10 @@ impl SolverDef {
         set(&mut settings.time_to_sleep, self.time_to_sleep);
         set(&mut settings.joint_hertz, self.joint_hertz);
         set(&mut settings.joint_damping_ratio, self.joint_damping_ratio);
+        set(
+            &mut settings.solve_points_together,
+            self.solve_points_together,
+        );
     }
 
     /// Checks each given field; the error names it as `solver.<field>`.

@@ -122,6 +122,7 @@ pub fn all(quick: bool) -> Result<Vec<Case>> {
     cases.push(far_from_origin()?);
     cases.push(chain_slide());
     cases.push(capsules());
+    cases.push(flat_landing());
     cases.extend(super::joint_cases::all());
     if quick {
         for c in &mut cases {
@@ -1064,6 +1065,127 @@ impl Probe for CapsuleProbe {
             out.push(v);
         }
         Ok(vec![rest, error / self.closing, out[0], out[1]])
+    }
+}
+
+/// Drop height of the flat-landing case: the bodies' bottoms above the ground (m).
+const FLAT_DROP: f32 = 3.0;
+
+/// A box, a capsule lying down and a rounded box dropped flat onto flat ground (issue 36).
+fn flat_landing() -> Case {
+    let mut scene = SceneDef::new("flat_landing");
+    scene.push(
+        BodyDef::new(ShapeDef::Box {
+            half_extents: [40.0, 0.5],
+            radius: 0.0,
+        })
+        .kind(BodyKind::Static)
+        .at(0.0, -0.5),
+    );
+    // (shape, half height), 15 m apart.
+    let shapes = [
+        (
+            ShapeDef::Box {
+                half_extents: [1.0, 1.0],
+                radius: 0.0,
+            },
+            1.0,
+        ),
+        (
+            ShapeDef::Capsule {
+                center1: [-0.75, 0.0],
+                center2: [0.75, 0.0],
+                radius: 0.25,
+            },
+            0.25,
+        ),
+        (
+            ShapeDef::Box {
+                half_extents: [0.9, 0.9],
+                radius: 0.1,
+            },
+            1.0,
+        ),
+    ];
+    let mut starts = Vec::new();
+    for (k, (shape, half_height)) in shapes.into_iter().enumerate() {
+        let x = -15.0 + 15.0 * k as f32;
+        scene.push(
+            BodyDef::new(shape)
+                .at(x, FLAT_DROP + half_height)
+                .friction(0.6),
+        );
+        starts.push((k + 1, f64::from(x)));
+    }
+    let steps = 400;
+    Case {
+        key: "flat_landing",
+        title: "Flat landing".into(),
+        steps,
+        setup: format!(
+            "A 2 × 2 m box, a capsule lying down (core 1.5 m, radius 0.25 m) and a 1.8 m box \
+             rounded by 0.1 m, density 1, friction 0.6, dropped flat from rest with their \
+             bottoms {FLAT_DROP} m above a flat static ground, 15 m apart. {steps} steps (6.7 s). \
+             A symmetric impact should give a symmetric response: no sideways motion, no turn \
+             (docs/accuracy/flat_landing.md)."
+        ),
+        definition: "**sideways**: the largest |vx| of any of the three at any step. **spin**: \
+                     the largest |ω|. **offset**: the largest |x − x₀| at the end. **angle**: the \
+                     largest turn at the end."
+            .into(),
+        criterion: "sideways ≤ 0.05 m/s, offset ≤ 0.01 m and angle ≤ 0.01 rad (issue 36's \
+                    bounds, which `tests/tests/landing.rs` asserts at 1, 3, 10 and 20 m)."
+            .into(),
+        metrics: vec![
+            MetricDef::new("sideways (m/s)", "sideways_mps")
+                .bound(0.05)
+                .plot(),
+            MetricDef::new("spin (rad/s)", "spin_radps"),
+            MetricDef::new("offset (m)", "offset_m").bound(0.01).plot(),
+            MetricDef::new("angle (rad)", "angle_rad").bound(0.01),
+        ],
+        extras: vec![Knobs {
+            together: true,
+            ..Knobs::DEFAULT
+        }],
+        probe: Box::new(move || {
+            Box::new(LandingProbe {
+                starts: starts.clone(),
+                sideways: 0.0,
+                spin: 0.0,
+            })
+        }),
+        scene,
+    }
+}
+
+struct LandingProbe {
+    /// Each dropped body's index and starting x.
+    starts: Vec<(usize, f64)>,
+    sideways: f64,
+    spin: f64,
+}
+
+impl Probe for LandingProbe {
+    fn after_step(&mut self, sim: &mut dyn Peer, _step: u32) -> Result<()> {
+        for &(i, _) in &self.starts {
+            let v = sim.velocity(i)?;
+            self.sideways = self.sideways.max(f64::from(v[0]).abs());
+            self.spin = self.spin.max(f64::from(v[2]).abs());
+        }
+        Ok(())
+    }
+    fn finish(&mut self, sim: &mut dyn Peer) -> Result<Vec<f64>> {
+        let (mut offset, mut angle) = (0.0f64, 0.0f64);
+        for &(i, x0) in &self.starts {
+            let p = sim.pose(i)?;
+            if !finite(&p) {
+                return Ok(vec![f64::NAN; 4]);
+            }
+            offset = offset.max((f64::from(p[0]) - x0).abs());
+            angle = angle.max(turn(p[2], 0.0));
+        }
+        Ok(vec![self.sideways, self.spin, offset, angle])
     }
 }
 

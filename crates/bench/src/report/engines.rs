@@ -93,7 +93,9 @@ impl Engine {
         match self {
             Engine::Tumble => true,
             // Neither peer has more than one restitution pass.
-            Engine::Box2d => k.relax == d.relax && k.restitution_passes == d.restitution_passes,
+            Engine::Box2d => {
+                k.relax == d.relax && k.restitution_passes == d.restitution_passes && !k.together
+            }
             // Rapier has no restitution threshold: a contact with restitution >= 1 always
             // bounces, others bounce on their first step of contact. Its joints' locked rows
             // are rigid: no joint hertz.
@@ -101,6 +103,7 @@ impl Engine {
                 k.threshold == d.threshold
                     && k.restitution_passes == d.restitution_passes
                     && k.joint_hertz == d.joint_hertz
+                    && !k.together
             }
         }
     }
@@ -109,7 +112,7 @@ impl Engine {
     pub fn knob_names(self) -> &'static str {
         match self {
             Engine::Tumble => {
-                "`step(dt, substeps)`; `StepSettings::{relax_iterations, contact_hertz, max_push_speed, restitution_threshold, restitution_iterations}`"
+                "`step(dt, substeps)`; `StepSettings::{relax_iterations, contact_hertz, max_push_speed, restitution_threshold, restitution_iterations, solve_points_together}`"
             }
             Engine::Box2d => {
                 "`b2World_Step(dt, subStepCount)`; `b2WorldDef::{contactHertz, contactSpeed, restitutionThreshold}` (no relax knob: Box2D always runs one relax pass per substep)"
@@ -139,6 +142,9 @@ pub struct Knobs {
     /// Stiffness of the joints' rigid rows (Hz; the scene's `solver.joint_hertz`; tumble and
     /// Box2D: clamped to a quarter of the substep rate; Rapier's joints are rigid).
     pub joint_hertz: f32,
+    /// A manifold's two points solved together (tumble only:
+    /// `StepSettings::solve_points_together`).
+    pub together: bool,
 }
 
 impl Knobs {
@@ -151,6 +157,7 @@ impl Knobs {
         threshold: 1.0,
         restitution_passes: 1,
         joint_hertz: 60.0,
+        together: false,
     };
 
     /// "4 sub", "4 sub, 2 relax", "4 sub, 15 Hz", "4 sub, push 1 m/s": the substeps and
@@ -176,6 +183,9 @@ impl Knobs {
         if self.joint_hertz != d.joint_hertz {
             s.push_str(&format!(", joints {} Hz", self.joint_hertz));
         }
+        if self.together {
+            s.push_str(", points together");
+        }
         s
     }
 
@@ -187,7 +197,9 @@ impl Knobs {
         } else {
             format!("{}/", self.substeps)
         };
-        if self.joint_hertz != d.joint_hertz {
+        if self.together {
+            format!("{prefix}pt")
+        } else if self.joint_hertz != d.joint_hertz {
             format!("{prefix}j{}Hz", self.joint_hertz)
         } else if self.relax != d.relax {
             format!("{prefix}r{}", self.relax)
@@ -274,6 +286,7 @@ fn apply(settings: &mut StepSettings, knobs: &Knobs) {
     settings.max_push_speed = knobs.push;
     settings.restitution_threshold = knobs.threshold;
     settings.restitution_iterations = knobs.restitution_passes;
+    settings.solve_points_together = knobs.together;
 }
 
 /// tumble behind the peers' trait, so one loop runs and times every engine.

@@ -76,6 +76,8 @@ pub struct ContactConstraint {
     pub softness: Softness,
     /// Points used.
     pub count: usize,
+    /// Its two points are solved from the same velocities ([`points_together`]).
+    pub together: bool,
     /// The points.
     pub points: [ConstraintPoint; 2],
 }
@@ -169,6 +171,26 @@ pub fn prepare_point(
     p.relative_velocity = prepared.relative_velocity;
 }
 
+/// Whether a two-point manifold's points are solved from the same velocities (each from
+/// the velocities before either pushes, the impulses then applied in turn) rather than one
+/// after the other. In turn, the first point of an impact takes all of it and the second
+/// none, and a box dropped flat lands turning (docs/accuracy/flat_landing.md); together,
+/// the two rows converge as fast as they are apart, so only rows well apart are: coupling
+/// `ρ² = k12² / (k11·k22) ≤ 1/4` (a flat box's ρ is 0.2, a capsule lying down 0.38; two
+/// points close along the surface make ρ near 1, where together would stall and in turn
+/// converges as ρ²). `masses` as in [`point_terms`]; `anchors` each point's `[ra, rb]`.
+#[inline(always)]
+pub fn points_together(n: Vec2, masses: [f32; 4], anchors: [[Vec2; 2]; 2]) -> bool {
+    let [ma, ia, mb, ib] = masses;
+    let [[r1a, r1b], [r2a, r2b]] = anchors;
+    let (c1a, c1b) = (cross(r1a, n), cross(r1b, n));
+    let (c2a, c2b) = (cross(r2a, n), cross(r2b, n));
+    let k11 = ma + mb + ia * c1a * c1a + ib * c1b * c1b;
+    let k22 = ma + mb + ia * c2a * c2a + ib * c2b * c2b;
+    let k12 = ma + mb + ia * c1a * c2a + ib * c1b * c2b;
+    4.0 * k12 * k12 <= k11 * k22
+}
+
 /// What prepare computes for one contact point (docs/soft_step.md 2.4).
 #[derive(Clone, Copy, Debug)]
 pub struct PointTerms {
@@ -248,7 +270,10 @@ pub fn solve(
         let m = c.masses();
         let n = c.normal;
         let dp = b.dp - a.dp;
-        for p in &mut c.points[..c.count] {
+        // The velocities before either point pushes, for the second point of a manifold
+        // solved together (`points_together`).
+        let before = c.together.then_some((a, b));
+        for (k, p) in c.points[..c.count].iter_mut().enumerate() {
             // Current separation from the substep deltas; the normal stays fixed.
             let prb = b.dq.apply(p.anchor_b);
             let pra = a.dq.apply(p.anchor_a);
@@ -267,7 +292,11 @@ pub fn solve(
                 (0.0, 1.0, 0.0)
             };
             let (ra, rb) = (p.anchor_a, p.anchor_b);
-            let vn = dot(relative_velocity(a.v, a.w, ra, b.v, b.w, rb), n);
+            let (va, vb) = match &before {
+                Some((a0, b0)) if k == 1 => (a0, b0),
+                _ => (&a, &b),
+            };
+            let vn = dot(relative_velocity(va.v, va.w, ra, vb.v, vb.w, rb), n);
             let impulse =
                 -p.normal_mass * (mass_scale * vn + bias) - impulse_scale * p.normal_impulse;
             let applied = accumulate_normal(p, impulse);
@@ -322,12 +351,19 @@ pub fn apply_restitution(
         let (mut a, mut b) = read(states, c);
         let m = c.masses();
         let n = c.normal;
-        for p in &mut c.points[..c.count] {
+        let before = c.together.then_some((a, b));
+        for (k, p) in c.points[..c.count].iter_mut().enumerate() {
             if p.relative_velocity > -threshold || p.total_normal_impulse == 0.0 {
                 continue;
             }
             let (ra, rb) = (p.anchor_a, p.anchor_b);
-            let vn = dot(relative_velocity(a.v, a.w, ra, b.v, b.w, rb), n);
+            // As in `solve`: the second point of a manifold solved together sees the
+            // velocities before the first pushed.
+            let (va, vb) = match &before {
+                Some((a0, b0)) if k == 1 => (a0, b0),
+                _ => (&a, &b),
+            };
+            let vn = dot(relative_velocity(va.v, va.w, ra, vb.v, vb.w, rb), n);
             let impulse = -p.normal_mass * (vn + c.restitution * p.relative_velocity);
             let applied = accumulate_normal(p, impulse);
             apply(m, &mut a, &mut b, ra, rb, n * applied);

@@ -199,6 +199,9 @@ pub struct SolverParams {
     pub static_softness: Softness,
     /// Whether last step's impulses seed this step.
     pub warm_starting: bool,
+    /// Whether a manifold's two points well apart are solved together
+    /// (`StepSettings::solve_points_together`).
+    pub points_together: bool,
 }
 
 impl SolverParams {
@@ -320,6 +323,7 @@ impl Solver {
         // many_pyramids' 8 MB: -21%; a 2-vCPU EPYC).
         let cold = self.wide.len() * std::mem::size_of::<WideConstraint>() > COLD_CONSTRAINTS;
         self.wide_surfaces.clear();
+        // Beside the constraints, and only in a world that uses them.
         if surface.is_some() {
             self.wide_surfaces
                 .resize(self.wide.len(), WideSurface::ZERO);
@@ -358,7 +362,7 @@ impl Solver {
                     input,
                     softness,
                 };
-                writer.write(at, &lane, states, params.warm_starting);
+                writer.write(at, &lane, states, params);
             };
             for_each_part(spread, 0..touching.len(), min, &|_, part: Range<usize>| {
                 part.for_each(write_lane)
@@ -972,6 +976,16 @@ fn build_constraint(
         },
         softness: params.softness(&ba, &bb),
         count: m.count,
+        together: params.points_together
+            && m.count == 2
+            && contact_solver::points_together(
+                m.normal,
+                [ba.inv_mass, ba.inv_inertia, bb.inv_mass, bb.inv_inertia],
+                [
+                    [m.points[0].anchor_a, m.points[0].anchor_b],
+                    [m.points[1].anchor_a, m.points[1].anchor_b],
+                ],
+            ),
         points: [ConstraintPoint::default(); 2],
     };
     let sa = &states[c.body_a as usize];

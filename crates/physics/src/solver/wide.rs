@@ -58,6 +58,30 @@ unsafe impl Sync for LaneWriter<'_> {}
 /// `lane` packed with its constraint: `wide << 3 | lane`.
 pub type LaneIndex = u32;
 
+/// Each set of lanes as a vector mask: entry `bits` is all ones in lane `l` where bit `l` of
+/// `bits` is set (8 KB, read by the constraints that solve two points together).
+static LANE_MASKS: [[u32; LANES]; 256] = {
+    let mut table = [[0u32; LANES]; 256];
+    let mut bits = 0;
+    while bits < 256 {
+        let mut l = 0;
+        while l < LANES {
+            if bits >> l & 1 != 0 {
+                table[bits][l] = u32::MAX;
+            }
+            l += 1;
+        }
+        bits += 1;
+    }
+    table
+};
+
+/// The lanes set in `bits`, as a mask ([`LANE_MASKS`]).
+#[inline(always)]
+fn lane_mask<V: Lanes>(bits: u8) -> V {
+    V::load(wide::bytemuck::cast(LANE_MASKS[bits as usize]))
+}
+
 #[allow(unsafe_code)]
 impl<'a> LaneWriter<'a> {
     /// Shared access for concurrent lane writes.
@@ -110,8 +134,9 @@ impl<'a> LaneWriter<'a> {
         at: LaneIndex,
         x: &LaneInput<'_>,
         states: &[BodyState],
-        warm_starting: bool,
+        params: &super::SolverParams,
     ) {
+        let warm_starting = params.warm_starting;
         let (wide, l) = ((at >> 3) as usize, (at & 7) as usize);
         assert!(wide < self.len);
         let c = &x.input;
@@ -129,7 +154,19 @@ impl<'a> LaneWriter<'a> {
             | (u8::from(c.friction > 0.0) << 2)
             | (u8::from(c.restitution > 0.0) << 3)
             | (u8::from(c.tangent_speed != 0.0) << 4)
-            | (u8::from(c.rolling_resistance > 0.0) << 5);
+            | (u8::from(c.rolling_resistance > 0.0) << 5)
+            | (u8::from(
+                params.points_together
+                    && m.count == 2
+                    && super::contact_solver::points_together(
+                        m.normal,
+                        masses,
+                        [
+                            [m.points[0].anchor_a, m.points[0].anchor_b],
+                            [m.points[1].anchor_a, m.points[1].anchor_b],
+                        ],
+                    ),
+            ) << 6);
         // SAFETY: `wide` is in bounds (asserted) and `l < LANES`; each write goes through a
         // raw pointer to this lane's own element of a lane array, which no other call
         // touches (contract of `shared`), and no reference to the shared constraint is made.
@@ -265,7 +302,7 @@ pub struct WideConstraint {
     /// Manifold points per lane.
     count: [u8; LANES],
     /// Per lane: bit 0 body A dynamic, 1 body B dynamic, 2 friction, 3 restitution, 4
-    /// tangent speed, 5 rolling resistance (what
+    /// tangent speed, 5 rolling resistance, 6 points solved together (what
     /// `finish` folds into the masks below; lanes are written one by one, possibly by
     /// different workers, so nothing per-constraint is written while lanes are).
     flags: [u8; LANES],
@@ -282,6 +319,11 @@ pub struct WideConstraint {
     any_tangent_speed: bool,
     /// A lane resists rolling (its [`WideSurface`] is valid in every lane).
     any_rolling: bool,
+    /// The lanes whose two points are solved together (`contact_solver::points_together`),
+    /// one bit each: an index into [`LANE_MASKS`]. In the constraint's padding, where a
+    /// vector mask would cost every constraint 32 bytes more (and every world, 2 to 4% of
+    /// the step, docs/accuracy/flat_landing.md).
+    together: u8,
     inv_mass_a: f32x8,
     inv_i_a: f32x8,
     inv_mass_b: f32x8,
@@ -355,6 +397,7 @@ impl WideConstraint {
         any_restitution: false,
         any_tangent_speed: false,
         any_rolling: false,
+        together: 0,
         inv_mass_a: f32x8::ZERO,
         inv_i_a: f32x8::ZERO,
         inv_mass_b: f32x8::ZERO,
@@ -375,14 +418,16 @@ impl WideConstraint {
     pub fn finish(&mut self, lanes: usize) {
         debug_assert!((1..=LANES).contains(&lanes));
         self.lanes = lanes as u8;
-        let (mut dynamic_a, mut dynamic_b) = (0u8, 0u8);
+        let (mut dynamic_a, mut dynamic_b, mut together) = (0u8, 0u8, 0u8);
         let mut any = 0u8;
         for l in 0..lanes {
             let f = self.flags[l];
             dynamic_a |= (f & 1) << l;
             dynamic_b |= ((f >> 1) & 1) << l;
+            together |= ((f >> 6) & 1) << l;
             any |= f;
         }
+        self.together = together;
         self.dynamic_a = dynamic_a;
         self.dynamic_b = dynamic_b;
         self.any_friction = any & 4 != 0;
@@ -761,7 +806,14 @@ fn solve_with<V: Lanes>(
             V::load(c.bias_rate),
             V::load(c.impulse_scale),
         );
-        for p in &mut c.points {
+        // The second point's normal velocity before either point pushes, for the lanes that
+        // solve their two points together (as the scalar `contact_solver::solve`): one value
+        // kept across the first point, not the six velocities.
+        let vn_before = (c.together != 0).then(|| {
+            let (dvx, dvy) = relative_velocity(&a, &b, &c.points[1].r.load::<V>());
+            dvx * nx + dvy * ny
+        });
+        for (j, p) in c.points.iter_mut().enumerate() {
             let r = p.r.load::<V>();
             // Current separation from the substep deltas (rotated anchors), normal fixed.
             let prax = a.dqc * r.ax - a.dqs * r.ay;
@@ -783,7 +835,12 @@ fn solve_with<V: Lanes>(
                 (speculative.select(s * inv_h, zero), one, zero)
             };
             let (dvx, dvy) = relative_velocity(&a, &b, &r);
-            let vn = dvx * nx + dvy * ny;
+            let mut vn = dvx * nx + dvy * ny;
+            if j == 1
+                && let Some(before) = vn_before
+            {
+                vn = lane_mask::<V>(c.together).select(before, vn);
+            }
             let impulse = -V::load(p.normal_mass) * (mass_scale * vn + bias)
                 - impulse_scale * V::load(p.normal_impulse);
             let applied = accumulate_normal(p, impulse, None);
@@ -872,7 +929,11 @@ fn apply_restitution_with<V: Lanes>(
         let m = c.masses();
         let (nx, ny) = (V::load(c.normal_x), V::load(c.normal_y));
         let restitution = V::load(c.restitution);
-        for p in &mut c.points {
+        let vn_before = (c.together != 0).then(|| {
+            let (dvx, dvy) = relative_velocity(&a, &b, &c.points[1].r.load::<V>());
+            dvx * nx + dvy * ny
+        });
+        for (j, p) in c.points.iter_mut().enumerate() {
             let relative = V::load(p.relative_velocity);
             // Lanes that approached slower than the threshold, or never pushed, are left alone.
             let active = neg_threshold.gt(relative)
@@ -883,7 +944,12 @@ fn apply_restitution_with<V: Lanes>(
             }
             let r = p.r.load::<V>();
             let (dvx, dvy) = relative_velocity(&a, &b, &r);
-            let vn = dvx * nx + dvy * ny;
+            let mut vn = dvx * nx + dvy * ny;
+            if j == 1
+                && let Some(before) = vn_before
+            {
+                vn = lane_mask::<V>(c.together).select(before, vn);
+            }
             let impulse = -V::load(p.normal_mass) * (vn + restitution * relative);
             let applied = accumulate_normal(p, impulse, Some(active));
             apply(m, &mut a, &mut b, &r, applied * nx, applied * ny);

@@ -36,6 +36,14 @@ pub struct StepSettings {
     /// Keep a contact's manifold while its pair barely moves (Box2D v3's contact recycling):
     /// cheaper narrow phase and steadier stacks.
     pub contact_recycling: bool,
+    /// Solve the two points of a manifold from the same velocities where their rows are well
+    /// apart: a body dropped flat then lands straight, where solved one after the other, as
+    /// Box2D v3 does, the first point takes the whole impact and the body lands sideways and
+    /// turning (docs/accuracy/flat_landing.md). Off by default for now: off is Box2D's Soft
+    /// Step exactly, the reference the peer comparisons check tumble against (on costs about
+    /// 2% of the step, a tenth of prepare; off, nothing; measured in that document).
+    #[serde(default)]
+    pub solve_points_together: bool,
     /// Solve each colour eight constraints at a time with SIMD. Off runs the scalar path,
     /// which gives bit-identical results; it exists to measure what SIMD buys.
     pub simd: bool,
@@ -107,6 +115,7 @@ impl Default for StepSettings {
             max_linear_speed: 400.0,
             warm_starting: true,
             contact_recycling: true,
+            solve_points_together: false,
             simd: true,
             enable_sleep: true,
             sleep_threshold: sleep_threshold(),

@@ -578,6 +578,7 @@ impl World {
             contact_softness: Softness::new(hertz, s.contact_damping_ratio, h),
             static_softness: Softness::new(2.0 * hertz, s.contact_damping_ratio, h),
             warm_starting: s.warm_starting,
+            points_together: s.solve_points_together,
         };
         // The touching contacts of awake bodies in contact order, each with what the serial
         // colouring needs, so that it never reads the contacts. Serial, into the kept

@@ -151,6 +151,15 @@ fn controls(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared, out: &m
             ));
             ui.end_row();
 
+            ui.label("Manifold points");
+            ui.checkbox(&mut settings.solve_points_together, "solved together")
+                .on_hover_text(
+                    "Solve a contact's two points from the same velocities where they are well \
+                     apart: a body dropped flat lands straight. Off: one after the other, as \
+                     Box2D v3 does, and the first point takes the whole impact.",
+                );
+            ui.end_row();
+
             ui.label("Restitution threshold");
             ui.add(
                 egui::Slider::new(&mut settings.restitution_threshold, 0.0..=2.0).suffix(" m/s"),
