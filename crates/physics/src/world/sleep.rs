@@ -9,10 +9,9 @@
 
 use glam::Vec2;
 
-use super::World;
+use super::{World, stores};
 use crate::def::BodyKind;
 use crate::island::NO_ISLAND;
-use crate::solver::NOT_DYNAMIC;
 
 impl World {
     /// Touch changes (reads each contact's key; writes islands, awake flags, the contact
@@ -29,8 +28,15 @@ impl World {
             return;
         }
         let mut woke = false;
-        for k in 0..self.contacts.list.len() {
+        let mut changed = std::mem::take(&mut self.contacts.changed);
+        let mut parted = std::mem::take(&mut self.contacts.parted);
+        parted.clear();
+        // In contact order, as a walk over every contact would meet them.
+        for k in stores::drain_marks(&mut changed, self.contacts.list.len().div_ceil(64)) {
             let key = &mut self.contacts.keys[k];
+            if key.remove {
+                parted.push(k as u32);
+            }
             let now = key.touching && !key.remove;
             if now == key.touched {
                 continue;
@@ -59,7 +65,9 @@ impl World {
                 self.islands.unlink(a, b);
             }
         }
-        self.contacts.remove_marked();
+        self.contacts.changed = changed;
+        self.contacts.parted = parted;
+        self.contacts.remove_parted();
         if woke {
             self.refresh_contact_keys();
         }
@@ -70,28 +78,12 @@ impl World {
     fn keep_touched_by_kinematic_awake(&mut self) {
         let threshold = self.settings.sleep_threshold;
         let mut woke = false;
-        // A kinematic body is awake, so its contacts are on the awake list when there is one.
-        let listed = self.walk_awake_contacts();
-        let count = if listed {
-            self.contacts.awake.len()
-        } else {
-            self.contacts.list.len()
-        };
-        for n in 0..count {
-            let k = if listed {
-                self.contacts.awake[n] as usize
-            } else {
-                n
-            };
-            // Only a touching contact of one dynamic body and one that is not can be a
-            // kinematic body's: the compact key says so without reading the contact. One
-            // test, not two in turn: whether a contact touches is a coin toss in a churning
-            // pile, while few contacts pass both (washer: its drum's, among 39,000).
-            let key = &self.contacts.keys[k];
-            let [a, b] = key.dynamic;
-            if !(key.touching & ((a == NOT_DYNAMIC) != (b == NOT_DYNAMIC))) {
-                continue;
-            }
+        // Only a touching contact of one dynamic body and one that is not can be a kinematic
+        // body's: the narrow phase marked those (washer: its drum's, among 38,000), in
+        // contact order.
+        let mut one_sided = std::mem::take(&mut self.contacts.one_sided);
+        let words = self.contacts.list.len().div_ceil(64);
+        for k in stores::drain_marks(&mut one_sided, words) {
             let c = &self.contacts.list[k];
             for (mover, other) in [(c.body_a, c.body_b), (c.body_b, c.body_a)] {
                 let (m, o) = (mover as usize, other as usize);
@@ -110,6 +102,7 @@ impl World {
                 }
             }
         }
+        self.contacts.one_sided = one_sided;
         if woke {
             self.refresh_contact_keys();
         }

@@ -16,7 +16,7 @@ use glam::Vec2;
 #[cfg(target_arch = "wasm32")]
 use web_time::Instant;
 
-use super::{BodySim, Contact, ContactCache, ContactKey, ShapeRecord, World, pair_key};
+use super::{BodySim, Contact, ContactCache, ContactKey, ShapeRecord, World, pair_key, stores};
 use crate::SPECULATIVE_DISTANCE;
 use crate::body::BodyState;
 use crate::collision::{Manifold, collide};
@@ -26,7 +26,7 @@ use crate::math::{Transform, cross_sv, dot};
 use crate::profile::StepProfile;
 use crate::shape::{Aabb, Shape};
 use crate::softness::Softness;
-use crate::solver::{SolverParams, SubstepParams, Touching};
+use crate::solver::{NOT_DYNAMIC, SolverParams, SubstepParams, Touching};
 use crate::threads::parallel::{SharedSlice, Spread, for_each_part, for_parts};
 
 /// Contacts whose relative pose moved less than this keep their manifold (Box2D's
@@ -388,6 +388,22 @@ impl World {
     #[allow(unsafe_code)]
     fn collide(&mut self, dt: f32, spread: Spread<'_>) -> (usize, usize) {
         let listed = self.walk_awake_contacts();
+        self.contacts.size_marks();
+        let (changed, one_sided) = (&self.contacts.changed, &self.contacts.one_sided);
+        let kinematic = self.bodies.kinematic_count > 0;
+        // What the touch update will walk: the contacts that changed, and in a world with a
+        // kinematic body the touching ones of one dynamic body.
+        let note = |k: usize, key: &ContactKey| {
+            if key.remove || key.touching != key.touched {
+                stores::mark(changed, k);
+            }
+            if kinematic
+                && key.touching
+                && ((key.dynamic[0] == NOT_DYNAMIC) != (key.dynamic[1] == NOT_DYNAMIC))
+            {
+                stores::mark(one_sided, k);
+            }
+        };
         let sims = &self.bodies.sims;
         let states = &self.bodies.states;
         let shapes = &self.shapes.geometry;
@@ -535,7 +551,9 @@ impl World {
                             // SAFETY: the awake list holds each contact once, so no two
                             // parts (nor two items of one) reach the same slot.
                             let (c, key) = unsafe { (contacts.at_mut(k), keys.at_mut(k)) };
-                            collide_one(c, key)
+                            let r = collide_one(c, key);
+                            note(k as usize, key);
+                            r
                         })
                         .fold((0, 0), sum)
                 },
@@ -546,11 +564,16 @@ impl World {
                 spread,
                 (&mut self.contacts.list[..], &mut self.contacts.keys[..]),
                 self.wide.narrow_phase,
-                &|_, (contacts, keys): (&mut [Contact], &mut [ContactKey])| {
+                &|offset, (contacts, keys): (&mut [Contact], &mut [ContactKey])| {
                     contacts
                         .iter_mut()
                         .zip(keys)
-                        .map(|(c, key)| collide_one(c, key))
+                        .enumerate()
+                        .map(|(i, (c, key))| {
+                            let r = collide_one(c, key);
+                            note(offset + i, key);
+                            r
+                        })
                         .fold((0, 0), sum)
                 },
                 &sum,

@@ -9,6 +9,7 @@
 
 use std::ops::Range;
 use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use glam::Vec2;
 use rustc_hash::FxHashMap;
@@ -297,6 +298,39 @@ pub(super) struct Contacts {
     pub pairs: FxHashMap<u64, u32>,
     /// This step's touching contacts, in contact order (reused).
     pub touching: Vec<Touching>,
+    /// One bit per contact, set by the narrow phase where a contact began or stopped
+    /// touching or parted, and cleared by the touch update that handles it: that update
+    /// walks what changed (a few hundred of washer's 38,000 contacts), not every contact.
+    pub changed: Vec<AtomicU64>,
+    /// One bit per contact, set by the narrow phase (in a world with a kinematic body) where
+    /// a touching contact has one dynamic body: the ones a kinematic body may hold awake.
+    pub one_sided: Vec<AtomicU64>,
+    /// The parted contacts of this step's touch update, ascending (reused).
+    pub parted: Vec<u32>,
+}
+
+/// Sets bit `k` of a bitmap that workers share (each contact is one worker's; two parts
+/// may share a word, hence the atomic).
+#[inline]
+pub(super) fn mark(bits: &[AtomicU64], k: usize) {
+    bits[k >> 6].fetch_or(1 << (k & 63), Ordering::Relaxed);
+}
+
+/// The set bits of `bits`' first `words` words, ascending, each cleared as it is read.
+pub(super) fn drain_marks(
+    bits: &mut [AtomicU64],
+    words: usize,
+) -> impl Iterator<Item = usize> + '_ {
+    bits[..words].iter_mut().enumerate().flat_map(|(w, word)| {
+        let mut b = std::mem::take(word.get_mut());
+        std::iter::from_fn(move || {
+            (b != 0).then(|| {
+                let k = w * 64 + b.trailing_zeros() as usize;
+                b &= b - 1;
+                k
+            })
+        })
+    })
 }
 
 impl Contacts {
@@ -315,11 +349,24 @@ impl Contacts {
         self.list.push(contact);
     }
 
-    /// Removes the contacts whose keys are marked `remove`, from the last down, each
-    /// replaced by the last contact (so the order is the same on any thread count).
-    pub fn remove_marked(&mut self) {
-        for k in (0..self.list.len()).rev() {
-            if self.keys[k].remove {
+    /// Sizes the change bitmaps for the narrow phase (they only grow: a steady step
+    /// allocates nothing). Every bit is clear: the touch update clears what it reads.
+    pub fn size_marks(&mut self) {
+        let words = self.list.len().div_ceil(64);
+        if self.changed.len() < words {
+            self.changed.resize_with(words, || AtomicU64::new(0));
+            self.one_sided.resize_with(words, || AtomicU64::new(0));
+        }
+    }
+
+    /// Removes the contacts `parted` (ascending, each marked `remove`), from the last down,
+    /// each replaced by the last contact (so the order is the same on any thread count, and
+    /// the same as a walk over every contact from the last down).
+    pub fn remove_parted(&mut self) {
+        for &k in self.parted.iter().rev() {
+            let k = k as usize;
+            debug_assert!(self.keys[k].remove);
+            {
                 self.awake_stale = true;
                 self.keys.swap_remove(k);
                 let c = self.list.swap_remove(k);
@@ -458,4 +505,24 @@ pub(super) struct Workers {
     /// [`super::set_thread_source`]): every step is then inline.
     pub crew: Option<Arc<Crew>>,
     pub threads: usize,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The touch update meets the marked contacts in ascending order, each once, and leaves
+    /// every bit clear for the next step (a bit left set would replay a change).
+    #[test]
+    fn marks_drain_in_contact_order_and_clear() {
+        let bits: Vec<AtomicU64> = (0..3).map(|_| AtomicU64::new(0)).collect();
+        for k in [130, 0, 63, 64, 7, 63] {
+            mark(&bits, k);
+        }
+        let mut bits = bits;
+        let drained: Vec<usize> = drain_marks(&mut bits, 3).collect();
+        assert_eq!(drained, vec![0, 7, 63, 64, 130]);
+        assert!(bits.iter_mut().all(|w| *w.get_mut() == 0));
+        assert_eq!(drain_marks(&mut bits, 3).count(), 0);
+    }
 }
