@@ -932,3 +932,68 @@ fn impulses_wake_only_when_asked_and_refuse_non_finite_input() {
     w.apply_linear_impulse_to_center(ground, j, true).unwrap();
     assert_eq!(w.body(ground).unwrap().linear_velocity, Vec2::ZERO);
 }
+
+/// A box at rest on a frictionless kinematic platform that slides under it stays awake (the
+/// touch update keeps what a moving kinematic body touches awake, walking the narrow phase's
+/// one-sided marks: the box itself does not move), the same box on a static floor falls
+/// asleep, and every mark is drained within its step: a
+/// mark left set is caught by `validate`.
+#[test]
+fn a_moving_kinematic_platform_keeps_its_load_awake_and_no_mark_outlives_its_step() {
+    let rider = |kind: BodyKind| {
+        let mut w = World::new(StepSettings::default());
+        w.create_body(
+            &BodyDef::new(ShapeDef::Box {
+                half_extents: [20.0, 0.5],
+                radius: 0.0,
+            })
+            .kind(kind)
+            .friction(0.0)
+            .velocity(
+                if kind == BodyKind::Kinematic {
+                    0.5
+                } else {
+                    0.0
+                },
+                0.0,
+            ),
+        )
+        .unwrap();
+        let load = w
+            .create_body(
+                &BodyDef::new(ShapeDef::Box {
+                    half_extents: [0.5, 0.5],
+                    radius: 0.0,
+                })
+                .friction(0.0)
+                .at(0.0, 1.0),
+            )
+            .unwrap();
+        for step in 0..240 {
+            w.step(1.0 / 60.0, 4);
+            if let Err(e) = w.validate() {
+                panic!("{kind:?}, step {step}: {e}");
+            }
+        }
+        (w, load)
+    };
+    // Box2D's time to sleep is 0.5 s: 240 steps are 4 s.
+    let (still, load) = rider(BodyKind::Static);
+    let (w, moved) = rider(BodyKind::Kinematic);
+    assert!(
+        !still.is_awake(load).unwrap(),
+        "on a static floor it sleeps"
+    );
+    assert!(
+        w.is_awake(moved).unwrap(),
+        "on a moving platform it stays awake"
+    );
+    let v = w.body(moved).unwrap().linear_velocity;
+    assert!(
+        v.x.abs() < 1e-3,
+        "frictionless: the platform slides under it ({v})"
+    );
+    // A mark left set (as a touch update that missed it would leave it) is refused.
+    super::stores::mark(&w.contacts.one_sided, 0);
+    assert!(w.validate().unwrap_err().contains("one-sided"));
+}

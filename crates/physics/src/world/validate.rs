@@ -163,6 +163,22 @@ impl World {
         {
             return Err("contact arrays and pair map differ in length".into());
         }
+        // The narrow phase's change marks are drained by the same step's touch update: one
+        // left set would replay a change next step, on whatever contact then has its index.
+        let marked = |bits: &[std::sync::atomic::AtomicU64]| {
+            bits.iter()
+                .position(|w| w.load(std::sync::atomic::Ordering::Relaxed) != 0)
+        };
+        for (name, bits) in [
+            ("changed", &self.contacts.changed),
+            ("one-sided", &self.contacts.one_sided),
+        ] {
+            if let Some(w) = marked(bits) {
+                return Err(format!(
+                    "a {name} contact mark outlived its step (word {w})"
+                ));
+            }
+        }
         for (k, (c, key)) in self
             .contacts
             .list
