@@ -66,8 +66,8 @@ impl World {
             }
         }
         self.contacts.changed = changed;
+        self.contacts.remove_parted(&parted);
         self.contacts.parted = parted;
-        self.contacts.remove_parted();
         if woke {
             self.refresh_contact_keys();
         }

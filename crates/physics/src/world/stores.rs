@@ -362,20 +362,18 @@ impl Contacts {
     /// Removes the contacts `parted` (ascending, each marked `remove`), from the last down,
     /// each replaced by the last contact (so the order is the same on any thread count, and
     /// the same as a walk over every contact from the last down).
-    pub fn remove_parted(&mut self) {
-        for &k in self.parted.iter().rev() {
+    pub fn remove_parted(&mut self, parted: &[u32]) {
+        for &k in parted.iter().rev() {
             let k = k as usize;
             debug_assert!(self.keys[k].remove);
-            {
-                self.awake_stale = true;
-                self.keys.swap_remove(k);
-                let c = self.list.swap_remove(k);
-                self.pairs.remove(&pair_key(c.shape_a, c.shape_b));
-                if k < self.list.len() {
-                    let moved = &self.list[k];
-                    self.pairs
-                        .insert(pair_key(moved.shape_a, moved.shape_b), k as u32);
-                }
+            self.awake_stale = true;
+            self.keys.swap_remove(k);
+            let c = self.list.swap_remove(k);
+            self.pairs.remove(&pair_key(c.shape_a, c.shape_b));
+            if k < self.list.len() {
+                let moved = &self.list[k];
+                self.pairs
+                    .insert(pair_key(moved.shape_a, moved.shape_b), k as u32);
             }
         }
     }
