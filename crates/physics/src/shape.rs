@@ -33,6 +33,13 @@ impl Aabb {
         max: Vec2::splat(f32::MAX),
     };
 
+    /// A box that overlaps no box, not even [`Aabb::EVERYWHERE`] (its corners are inverted
+    /// infinities).
+    pub const NOWHERE: Aabb = Aabb {
+        min: Vec2::splat(f32::INFINITY),
+        max: Vec2::splat(f32::NEG_INFINITY),
+    };
+
     /// Whether two boxes overlap (touching counts).
     #[inline]
     pub fn overlaps(&self, other: &Aabb) -> bool {

@@ -759,6 +759,10 @@ impl World {
         for k in 0..self.contacts.list.len() {
             let c = self.contacts.list[k];
             if gone(&c) {
+                // The pair may want its contact again (see `Shapes::searched_boxes`).
+                for s in [c.shape_a, c.shape_b] {
+                    self.shapes.searched_boxes[s as usize] = [Aabb::NOWHERE; 2];
+                }
                 if c.touched {
                     self.islands.unlink(c.body_a, c.body_b);
                     self.touch_changed(c.shape_a, c.shape_b, false);

@@ -58,6 +58,9 @@ impl World {
     /// found from the next step; contacts that exist are kept.
     pub fn set_custom_filter(&mut self, filter: Option<CustomFilter>) {
         self.hooks.custom_filter = filter;
+        // Pairs it refused may now be let through, and the pair search skips the pairs it
+        // saw before only while no filter can refuse (see `Shapes::searched_boxes`).
+        self.shapes.forget_searched();
     }
 
     /// Sets (or with `None` removes) the pre-solve callback: asked for each contact whose

@@ -290,6 +290,7 @@ impl World {
         world.shapes.unswept_boxes = snapshot.core_aabbs;
         world.shapes.moved_proxies = snapshot.moved;
         world.shapes.moved_flags = moved_flags;
+        world.shapes.searched_boxes = vec![[Aabb::NOWHERE; 2]; m];
         world.contacts.list = snapshot.contacts;
         for c in &mut world.contacts.list {
             c.masses = [

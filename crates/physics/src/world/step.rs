@@ -237,7 +237,8 @@ impl World {
         // other pair can ever push anything), whose core boxes overlap too (always, with a
         // static shape), whose filters let them touch, neither a sensor, that has none yet.
         // Cheapest refusals first: in a resting pile nearly every pair a moved proxy finds
-        // has its contact already, and the map says so before the shapes are read.
+        // has its contact already, and the searched boxes (below) or the map say so before
+        // the shapes are read.
         let no_collide = &self.joints.no_collide;
         let custom_filter = self.hooks.custom_filter.as_deref();
         let shape_slots = &self.shapes.slots;
@@ -245,13 +246,24 @@ impl World {
             index: s,
             generation: shape_slots.generation(s as usize),
         };
-        let wants_contact = |p: u32, q: u32| {
-            let (bp_, bq) = (body_of[p as usize], body_of[q as usize]);
-            bp_ != bq
-                && (dynamic[bp_ as usize].dynamic || dynamic[bq as usize].dynamic)
-                && !pairs.contains_key(&pair_key(p, q))
-                && (no_collide.is_empty() || !no_collide.contains_key(&pair_key(bp_, bq)))
-                && cores[p as usize].overlaps(&cores[q as usize])
+        // A pair whose boxes at the last search that took each overlapped by the pair rule
+        // has had every test then (when the later of the two came into that overlap) and has
+        // its contact if it wants one: none of the tests below can have changed since but by a
+        // change that forgets the searched boxes (`Shapes::searched_boxes`), and the narrow
+        // phase removes a contact only when its boxes part. Such pairs, most of what a
+        // tumbling pile finds, skip the pair map (a cache miss each where there are tens of
+        // thousands of contacts). Not while a custom filter may refuse a pair one step and
+        // let it through the next (it is asked again whenever the pair is found again).
+        let searched = &self.shapes.searched_boxes;
+        let skip_searched = custom_filter.is_none();
+        let searched_overlap = |p: u32, q: u32| {
+            let ([sp, cp], [sq, cq]) = (&searched[p as usize], &searched[q as usize]);
+            sp.overlaps(sq) && cp.overlaps(cq)
+        };
+        // The tests of a new contact after its bodies', its cores' and the pair map's, the
+        // cheapest first.
+        let would_touch = |p: u32, q: u32, bp_: u32, bq: u32| {
+            (no_collide.is_empty() || !no_collide.contains_key(&pair_key(bp_, bq)))
                 && {
                     let (rp, rq) = (&records[p as usize], &records[q as usize]);
                     !rp.sensor && !rq.sensor && rp.filter.should_collide(&rq.filter)
@@ -259,6 +271,25 @@ impl World {
                 && Shape::pair_collides(&shapes[p as usize], &shapes[q as usize])
                 // The game's say last: it is asked only of pairs that would touch.
                 && custom_filter.is_none_or(|f| f(shape_id(p.min(q)), shape_id(p.max(q))))
+        };
+        let wants_contact = |p: u32, q: u32| {
+            let (bp_, bq) = (body_of[p as usize], body_of[q as usize]);
+            // Two moving shapes' swept boxes overlap far more often than their cores (two
+            // bodies falling side by side): the cores first, then the rest.
+            if bp_ == bq
+                || !(dynamic[bp_ as usize].dynamic || dynamic[bq as usize].dynamic)
+                || !cores[p as usize].overlaps(&cores[q as usize])
+            {
+                return false;
+            }
+            if skip_searched && searched_overlap(p, q) {
+                debug_assert!(
+                    pairs.contains_key(&pair_key(p, q)) || !would_touch(p, q, bp_, bq),
+                    "shapes {p} and {q} overlapped at their last search but have no contact"
+                );
+                return false;
+            }
+            !pairs.contains_key(&pair_key(p, q)) && would_touch(p, q, bp_, bq)
         };
         if self.shapes.moved_proxies.len() * 2 > self.shapes.tree.proxy_count() {
             // Most proxies moved (smash, an explosion, the first step): walk the tree against
@@ -332,9 +363,14 @@ impl World {
     }
 
     /// Hands the moved proxies, their pairs made, to the narrow phase (their flags stay set
-    /// for it), and gives `moved` the other buffer for finalize to fill.
+    /// for it), noting the boxes they were searched with, and gives `moved` the other buffer for finalize to fill.
     fn finish_moved(&mut self, moved: Vec<u32>) {
         debug_assert!(self.shapes.moved_done.is_empty());
+        let shapes = &mut self.shapes;
+        for &s in &moved {
+            let s = s as usize;
+            shapes.searched_boxes[s] = [shapes.swept_boxes[s], shapes.unswept_boxes[s]];
+        }
         self.shapes.moved_proxies = std::mem::replace(&mut self.shapes.moved_done, moved);
     }
 

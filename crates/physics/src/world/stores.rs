@@ -168,6 +168,12 @@ pub(super) struct Shapes {
     /// fall side by side then make no pair. A shape of a static body or a bullet has
     /// [`Aabb::EVERYWHERE`], so its pairs go by the swept boxes alone.
     pub unswept_boxes: Vec<Aabb>,
+    /// Each proxy's swept and core boxes at the last pair search that took it, or
+    /// [`Aabb::NOWHERE`] twice where every pair of it must be looked up again (a new or
+    /// enabled shape, one whose filter, kind or contacts changed between steps). Two proxies
+    /// whose searched boxes overlap by the pair rule have their contact, if they want one
+    /// (see `World::find_new_pairs`): the pair search then skips the pair map for them.
+    pub searched_boxes: Vec<[Aabb; 2]>,
     /// Proxies whose boxes changed since the last pair search.
     pub moved_proxies: Vec<u32>,
     /// Per proxy: whether it is in `moved_proxies` (or in `moved_done`, until the narrow
@@ -211,6 +217,7 @@ impl Shapes {
             self.swept_boxes.push(empty);
             self.unswept_boxes.push(empty);
             self.moved_flags.push(false);
+            self.searched_boxes.push([Aabb::NOWHERE; 2]);
         } else {
             let su = s as usize;
             self.geometry[su] = shape;
@@ -219,6 +226,7 @@ impl Shapes {
             self.swept_boxes[su] = empty;
             self.unswept_boxes[su] = empty;
             self.moved_flags[su] = false;
+            self.searched_boxes[su] = [Aabb::NOWHERE; 2];
         }
         self.proxies_changed = true;
         self.static_tree_stale = true;
@@ -264,6 +272,7 @@ impl Shapes {
     pub fn set_disabled(&mut self, s: u32, disabled: bool) {
         let su = s as usize;
         self.records[su].disabled = disabled;
+        self.searched_boxes[su] = [Aabb::NOWHERE; 2];
         if disabled && self.moved_flags[su] {
             self.moved_flags[su] = false;
             self.moved_proxies.retain(|&m| m != s);
@@ -273,9 +282,19 @@ impl Shapes {
         self.tree_dirty = true;
     }
 
-    /// Queues proxy `s` for the next pair search (once, however often it moves).
+    /// Forgets every proxy's searched boxes (see `searched_boxes`): the next pair search
+    /// looks up every pair it finds.
+    pub fn forget_searched(&mut self) {
+        self.searched_boxes.fill([Aabb::NOWHERE; 2]);
+    }
+
+    /// Queues proxy `s` for the next pair search (once, however often it moves), which looks
+    /// up every pair of it (a change made between steps may have removed its contacts or
+    /// changed which pairs want one; finalize's moves, which change neither, queue a proxy
+    /// without this).
     pub fn mark_moved(&mut self, s: u32) {
         let su = s as usize;
+        self.searched_boxes[su] = [Aabb::NOWHERE; 2];
         if !self.moved_flags[su] {
             self.moved_flags[su] = true;
             self.moved_proxies.push(s);

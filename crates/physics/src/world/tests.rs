@@ -997,3 +997,83 @@ fn a_moving_kinematic_platform_keeps_its_load_awake_and_no_mark_outlives_its_ste
     super::stores::mark(&w.contacts.one_sided, 0);
     assert!(w.validate().unwrap_err().contains("one-sided"));
 }
+
+/// A box sliding up beside a static wall, 1 cm from it (within the speculative distance, so
+/// the pair has a contact), without gravity: its boxes move every step or two while the
+/// pair's boxes keep overlapping. Returns the world and both shapes' slots.
+fn box_sliding_beside_a_wall() -> (World, ShapeId, ShapeId) {
+    let mut w = World::new(StepSettings {
+        gravity: Vec2::ZERO,
+        enable_sleep: false,
+        ..StepSettings::default()
+    });
+    let wall = w
+        .create_body(
+            &BodyDef::new(ShapeDef::Box {
+                half_extents: [0.5, 5.0],
+                radius: 0.0,
+            })
+            .kind(BodyKind::Static)
+            .at(1.01, 0.0),
+        )
+        .unwrap();
+    let slider = w
+        .create_body(
+            &BodyDef::new(ShapeDef::Box {
+                half_extents: [0.5, 0.5],
+                radius: 0.0,
+            })
+            .at(0.0, -2.0),
+        )
+        .unwrap();
+    w.set_velocity(slider, Vec2::new(0.0, 2.0), 0.0).unwrap();
+    let shape = |w: &World, b| w.body_shapes(b).unwrap().next().unwrap().id;
+    let (a, b) = (shape(&w, slider), shape(&w, wall));
+    (w, a, b)
+}
+
+fn have_contact(w: &World, a: ShapeId, b: ShapeId) -> bool {
+    w.contacts.pairs.contains_key(&pair_key(a.index, b.index))
+}
+
+#[test]
+fn a_pair_refused_by_a_custom_filter_is_found_once_the_filter_is_gone() {
+    // The pair search skips a pair whose boxes overlapped at its last search: the custom
+    // filter's refusal then must not count as "searched" once the filter is removed.
+    let (mut w, a, b) = box_sliding_beside_a_wall();
+    w.set_custom_filter(Some(Box::new(|_, _| false)));
+    for _ in 0..10 {
+        w.step(1.0 / 60.0, 4);
+    }
+    assert!(!have_contact(&w, a, b));
+    w.set_custom_filter(None);
+    for _ in 0..10 {
+        w.step(1.0 / 60.0, 4);
+    }
+    assert!(have_contact(&w, a, b), "the pair was not found again");
+}
+
+#[test]
+fn a_pair_whose_filter_refused_then_allows_it_is_found_again_while_its_boxes_overlap() {
+    // A filter change between steps, the boxes unchanged: the pair search must look the pair
+    // up again rather than skip it as searched, both where the change removed the pair's
+    // contact and where the pair never had one (nothing was removed).
+    let never = Filter {
+        mask: 0,
+        ..Filter::default()
+    };
+    let step = |w: &mut World, n| (0..n).for_each(|_| w.step(1.0 / 60.0, 4));
+    for refused_from_the_start in [false, true] {
+        let (mut w, a, b) = box_sliding_beside_a_wall();
+        if !refused_from_the_start {
+            step(&mut w, 5);
+            assert!(have_contact(&w, a, b));
+        }
+        w.set_filter(a, never).unwrap();
+        step(&mut w, 5);
+        assert!(!have_contact(&w, a, b));
+        w.set_filter(a, Filter::default()).unwrap();
+        w.step(1.0 / 60.0, 4);
+        assert!(have_contact(&w, a, b), "the pair was not found again");
+    }
+}

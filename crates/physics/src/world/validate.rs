@@ -68,6 +68,17 @@ impl World {
                 if self.shapes.records[su].disabled && self.shapes.moved_flags[su] {
                     return Err(format!("disabled shape {s} is queued for the pair search"));
                 }
+                let searched = self.shapes.searched_boxes[su];
+                let boxes = [self.shapes.swept_boxes[su], self.shapes.unswept_boxes[su]];
+                if !self.shapes.moved_flags[su]
+                    && !self.shapes.records[su].disabled
+                    && searched != [Aabb::NOWHERE; 2]
+                    && searched != boxes
+                {
+                    return Err(format!(
+                        "shape {s}'s boxes changed since its pair search, but it is not queued"
+                    ));
+                }
                 if self.sweeps_every_pair(i) != (self.shapes.unswept_boxes[su] == Aabb::EVERYWHERE)
                 {
                     return Err(format!(
