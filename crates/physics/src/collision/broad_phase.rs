@@ -23,6 +23,24 @@ enum Walk {
     Between(usize, usize),
 }
 
+/// The work of a walk of the tree against itself: its leaves' box tests and the
+/// overlapping pairs found (both the same on any thread count).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct WalkEffort {
+    pub tests: u64,
+    pub found: u64,
+}
+
+impl std::ops::Add for WalkEffort {
+    type Output = WalkEffort;
+    fn add(self, o: WalkEffort) -> WalkEffort {
+        WalkEffort {
+            tests: self.tests + o.tests,
+            found: self.found + o.found,
+        }
+    }
+}
+
 /// A tree node: an internal node's children, or a leaf's range of `items`.
 #[derive(Clone, Copy, Debug)]
 pub struct Node {
@@ -46,6 +64,10 @@ impl Node {
 pub struct BroadPhase {
     nodes: Vec<Node>,
     items: Vec<u32>,
+    /// Each item's box, in `items`' order (a leaf's boxes side by side, a cache line for a
+    /// leaf of four): the walk of the tree against itself reads these, not the proxies'
+    /// boxes scattered by id. Kept equal to the proxies' boxes by every build and refit.
+    item_boxes: Vec<Aabb>,
     /// Each node's parent (`NO_NODE` for the root), for refits that walk up from a leaf.
     parent: Vec<u32>,
     /// Each proxy's leaf (`NO_NODE` for a proxy not in the tree).
@@ -56,6 +78,10 @@ pub struct BroadPhase {
     built_cost: f32,
     /// [`cost`](Self::cost) now, kept up to date by the refits.
     current_cost: f32,
+    /// Box tests per overlapping pair in the walks of the tree against itself since its
+    /// last rebuild: the fewest (`None` before the first), and the latest walk's.
+    best_walk_effort: Option<f32>,
+    walk_effort: f32,
 }
 
 /// "No node" in `parent` and `leaf_of`.
@@ -82,6 +108,7 @@ impl BroadPhase {
             [c.x, c.y]
         }));
         if self.items.is_empty() {
+            self.item_boxes.clear();
             self.built_cost = 0.0;
             self.current_cost = 0.0;
             return;
@@ -94,8 +121,12 @@ impl BroadPhase {
         self.parent.push(NO_NODE);
         let n = self.items.len();
         self.build(0, 0, n, aabbs);
+        self.item_boxes.clear();
+        self.item_boxes
+            .extend(self.items.iter().map(|&i| aabbs[i as usize]));
         self.built_cost = self.cost();
         self.current_cost = self.built_cost;
+        self.best_walk_effort = None;
     }
 
     /// Rebuilds the tree over every proxy of `aabbs`.
@@ -112,6 +143,24 @@ impl BroadPhase {
             .filter(|n| !n.is_leaf())
             .map(|n| n.aabb.perimeter())
             .sum()
+    }
+
+    /// Whether the latest walk of the tree against itself tested more than twice as many
+    /// boxes per overlapping pair as the best walk since the last rebuild: a refitted tree
+    /// whose bodies rearranged, where [`looseness`](Self::looseness) misses it because a few
+    /// large turning boxes make most of the cost (tumbler's walls: from 6.5 to 26 tests a
+    /// pair over its 750 steps while the looseness stayed under 1.25). The best walk, not
+    /// the first: a scene's first walks find few pairs (bodies placed apart).
+    pub(crate) fn walks_slowly(&self) -> bool {
+        self.best_walk_effort
+            .is_some_and(|best| self.walk_effort > 2.0 * best)
+    }
+
+    /// Notes the effort of a walk of the tree against itself (see [`Self::walks_slowly`]).
+    pub(crate) fn note_walk(&mut self, effort: WalkEffort) {
+        let per_pair = effort.tests as f32 / effort.found.max(1) as f32;
+        self.walk_effort = per_pair;
+        self.best_walk_effort = Some(self.best_walk_effort.map_or(per_pair, |b| b.min(per_pair)));
     }
 
     /// How much costlier the tree is than right after its last rebuild (1 = as good).
@@ -182,6 +231,9 @@ impl BroadPhase {
     /// cheaper than a rebuild, at the price of looser nodes as bodies wander. Nodes are stored
     /// parent before child, so a reverse walk sees children first.
     pub(crate) fn refit(&mut self, aabbs: &[Aabb]) {
+        for (b, &i) in self.item_boxes.iter_mut().zip(&self.items) {
+            *b = aabbs[i as usize];
+        }
         for k in (0..self.nodes.len()).rev() {
             self.nodes[k].aabb = self.fitted(k, aabbs);
         }
@@ -201,6 +253,16 @@ impl BroadPhase {
         if missing || moved.len() * 16 > self.nodes.len() {
             self.refit(aabbs);
             return;
+        }
+        // Every moved item's box first, so that each leaf is fitted from current boxes.
+        for &p in moved {
+            let leaf = &self.nodes[self.leaf_of[p as usize] as usize];
+            let first = leaf.child_or_first as usize;
+            // A leaf holds at most `LEAF_SIZE` items: a scan finds the proxy's place.
+            let items = &self.items[first..first + leaf.count as usize];
+            if let Some(at) = items.iter().position(|&i| i == p) {
+                self.item_boxes[first + at] = aabbs[p as usize];
+            }
         }
         for &p in moved {
             let mut k = self.leaf_of[p as usize] as usize;
@@ -227,10 +289,14 @@ impl BroadPhase {
         let node = &self.nodes[k];
         let first = node.child_or_first as usize;
         if node.is_leaf() {
-            let items = &self.items[first..first + node.count as usize];
-            items[1..].iter().fold(aabbs[items[0] as usize], |b, &i| {
-                b.union(&aabbs[i as usize])
-            })
+            debug_assert!(
+                self.leaf_items(node)
+                    .iter()
+                    .zip(self.leaf_boxes(node))
+                    .all(|(&i, b)| aabbs[i as usize] == *b)
+            );
+            let boxes = self.leaf_boxes(node);
+            boxes[1..].iter().fold(boxes[0], |b, c| b.union(c))
         } else {
             self.nodes[first].aabb.union(&self.nodes[first + 1].aabb)
         }
@@ -241,24 +307,25 @@ impl BroadPhase {
     /// subtrees, pruned where their bounds part). When most proxies moved this is cheaper
     /// than one query per proxy, which visits the same upper nodes again for every proxy.
     #[cfg(test)]
-    pub(crate) fn overlapping_pairs(&self, aabbs: &[Aabb], mut f: impl FnMut(u32, u32)) {
+    pub(crate) fn overlapping_pairs(&self, mut f: impl FnMut(u32, u32)) {
         if !self.nodes.is_empty() {
-            self.pairs_within(0, aabbs, &mut f);
+            self.pairs_within(0, &mut f, &mut 0);
         }
     }
 
     /// [`overlapping_pairs`](Self::overlapping_pairs) over `spread`: the top six levels of
     /// the walk are cut into pieces (up to a few hundred), which the workers share, each
     /// keeping what `keep` returns for its pairs, sorted; the pieces' lists are joined in
-    /// order, so the result is sorted runs, one a part (callers sort it).
+    /// order, so the result is sorted runs, one a part (callers sort it). With it, the walk's
+    /// effort, for [`Self::note_walk`]. The tree must be fitted to the proxies' boxes (its
+    /// leaves read their own copies).
     pub(crate) fn overlapping_pairs_parallel<T: Send + Ord>(
         &self,
-        aabbs: &[Aabb],
         spread: Spread<'_>,
         keep: &(impl Fn(u32, u32) -> Option<T> + Sync),
-    ) -> Vec<T> {
+    ) -> (Vec<T>, WalkEffort) {
         if self.nodes.is_empty() {
-            return Vec::new();
+            return (Vec::new(), WalkEffort::default());
         }
         let mut walks = Vec::new();
         let depth = if spread.workers() > 1 { 6 } else { 0 };
@@ -269,19 +336,23 @@ impl BroadPhase {
             1,
             &|_, part: &[Walk]| {
                 let mut out = Vec::new();
+                let (mut tests, mut found) = (0, 0);
                 for walk in part {
-                    let mut found = |p, q| out.extend(keep(p, q));
+                    let mut f = |p, q| {
+                        found += 1;
+                        out.extend(keep(p, q));
+                    };
                     match *walk {
-                        Walk::Within(n) => self.pairs_within(n, aabbs, &mut found),
-                        Walk::Between(a, b) => self.pairs_between(a, b, aabbs, &mut found),
+                        Walk::Within(n) => self.pairs_within(n, &mut f, &mut tests),
+                        Walk::Between(a, b) => self.pairs_between(a, b, &mut f, &mut tests),
                     }
                 }
                 out.sort_unstable();
-                out
+                (out, WalkEffort { tests, found })
             },
-            &|mut a, b| {
+            &|(mut a, ea), (b, eb)| {
                 a.extend(b);
-                a
+                (a, ea + eb)
             },
         )
     }
@@ -330,13 +401,20 @@ impl BroadPhase {
         &self.items[first..first + node.count as usize]
     }
 
-    fn pairs_within(&self, n: usize, aabbs: &[Aabb], f: &mut impl FnMut(u32, u32)) {
+    fn leaf_boxes(&self, node: &Node) -> &[Aabb] {
+        let first = node.child_or_first as usize;
+        &self.item_boxes[first..first + node.count as usize]
+    }
+
+    /// The pairs within subtree `n`, counting the leaves' box tests into `tests`.
+    fn pairs_within(&self, n: usize, f: &mut impl FnMut(u32, u32), tests: &mut u64) {
         let node = self.nodes[n];
         if node.is_leaf() {
-            let items = self.leaf_items(&node);
-            for (k, &p) in items.iter().enumerate() {
-                for &q in &items[k + 1..] {
-                    if aabbs[p as usize].overlaps(&aabbs[q as usize]) {
+            let (items, boxes) = (self.leaf_items(&node), self.leaf_boxes(&node));
+            *tests += (items.len() * (items.len() - 1) / 2) as u64;
+            for (k, (&p, bp)) in items.iter().zip(boxes).enumerate() {
+                for (&q, bq) in items[k + 1..].iter().zip(&boxes[k + 1..]) {
+                    if bp.overlaps(bq) {
                         f(p, q);
                     }
                 }
@@ -344,29 +422,48 @@ impl BroadPhase {
             return;
         }
         let left = node.child_or_first as usize;
-        self.pairs_within(left, aabbs, f);
-        self.pairs_within(left + 1, aabbs, f);
-        self.pairs_between(left, left + 1, aabbs, f);
+        self.pairs_within(left, f, tests);
+        self.pairs_within(left + 1, f, tests);
+        self.pairs_between(left, left + 1, f, tests);
     }
 
-    fn pairs_between(&self, a: usize, b: usize, aabbs: &[Aabb], f: &mut impl FnMut(u32, u32)) {
-        let (na, nb) = (self.nodes[a], self.nodes[b]);
-        if !na.aabb.overlaps(&nb.aabb) {
+    /// The pairs between subtrees `a` and `b`: a walk down the pairs of nodes whose boxes
+    /// overlap, each tested before it is pushed, on a stack rather than by recursion.
+    /// `tests` counts the leaves' box tests only: the same however the walk was cut into
+    /// pieces (a pair of leaves is reached exactly when every pair above it overlaps).
+    fn pairs_between(&self, a: usize, b: usize, f: &mut impl FnMut(u32, u32), tests: &mut u64) {
+        let nodes = &self.nodes;
+        if !nodes[a].aabb.overlaps(&nodes[b].aabb) {
             return;
         }
-        if na.is_leaf() && nb.is_leaf() {
-            for &p in self.leaf_items(&na) {
-                let bp = &aabbs[p as usize];
-                for &q in self.leaf_items(&nb) {
-                    if bp.overlaps(&aabbs[q as usize]) {
-                        f(p, q);
+        // Each pop pushes at most two pairs, each a level deeper on one side: the stack
+        // holds at most the two subtrees' depths (each under 64, see `query`) plus one.
+        let mut stack = [(0u32, 0u32); 129];
+        stack[0] = (a as u32, b as u32);
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let (a, b) = (stack[top].0 as usize, stack[top].1 as usize);
+            let (na, nb) = (&nodes[a], &nodes[b]);
+            if na.is_leaf() && nb.is_leaf() {
+                let (ia, ba) = (self.leaf_items(na), self.leaf_boxes(na));
+                let (ib, bb) = (self.leaf_items(nb), self.leaf_boxes(nb));
+                *tests += (ia.len() * ib.len()) as u64;
+                for (&p, bp) in ia.iter().zip(ba) {
+                    for (&q, bq) in ib.iter().zip(bb) {
+                        if bp.overlaps(bq) {
+                            f(p, q);
+                        }
                     }
                 }
+                continue;
             }
-            return;
-        }
-        for (a, b) in self.split_pair(a, b) {
-            self.pairs_between(a, b, aabbs, f);
+            for (a, b) in self.split_pair(a, b) {
+                if nodes[a].aabb.overlaps(&nodes[b].aabb) {
+                    stack[top] = (a as u32, b as u32);
+                    top += 1;
+                }
+            }
         }
     }
 
@@ -584,7 +681,7 @@ mod tests {
         let mut bp = BroadPhase::default();
         bp.rebuild_all(&aabbs);
         let mut found = Vec::new();
-        bp.overlapping_pairs(&aabbs, |p, q| found.push((p.min(q), p.max(q))));
+        bp.overlapping_pairs(|p, q| found.push((p.min(q), p.max(q))));
         let count = found.len();
         found.sort();
         found.dedup();
@@ -600,12 +697,17 @@ mod tests {
         assert!(brute.len() > 100, "the scatter overlaps enough to test");
         assert_eq!(found, brute);
         let crew = crate::threads::crew::Crew::start(crate::threads::crew::tests::pool(1));
+        let mut efforts = Vec::new();
         for spread in [Spread::INLINE, Spread::over(&crew)] {
             let pair = |p: u32, q: u32| Some((p.min(q), p.max(q)));
-            let mut parallel = bp.overlapping_pairs_parallel(&aabbs, spread, &pair);
+            let (mut parallel, effort) = bp.overlapping_pairs_parallel(spread, &pair);
             parallel.sort();
             assert_eq!(parallel, brute, "{spread:?}");
+            efforts.push(effort);
         }
+        // The rebuild that the effort may call for happens on any thread count alike.
+        assert_eq!(efforts[0], efforts[1]);
+        assert_eq!(efforts[0].found, brute.len() as u64);
     }
 
     #[test]
@@ -691,6 +793,46 @@ mod tests {
         assert!(bp.looseness() > 2.0, "{}", bp.looseness());
         bp.rebuild_all(&aabbs);
         assert_eq!(bp.looseness(), 1.0);
+    }
+
+    #[test]
+    fn a_walk_that_tests_twice_the_boxes_a_pair_of_the_best_since_the_rebuild_is_slow() {
+        let walk = |bp: &mut BroadPhase| {
+            let (pairs, effort) =
+                bp.overlapping_pairs_parallel(Spread::INLINE, &|p, q| Some((p.min(q), p.max(q))));
+            bp.note_walk(effort);
+            (pairs.len(), effort)
+        };
+        let mut aabbs = boxes(400);
+        let mut bp = BroadPhase::default();
+        bp.rebuild_all(&aabbs);
+        let (found, effort) = walk(&mut bp);
+        // The effort counts every box test: at least one per pair found.
+        assert_eq!(effort.found, found as u64);
+        assert!(effort.tests >= effort.found);
+        assert!(!bp.walks_slowly());
+        // The same boxes shifted together: the same tree walk, as fast.
+        let shift = Vec2::new(3.0, -2.0);
+        for b in &mut aabbs {
+            *b = Aabb {
+                min: b.min + shift,
+                max: b.max + shift,
+            };
+        }
+        bp.refit(&aabbs);
+        assert_eq!(walk(&mut bp).1, effort);
+        assert!(!bp.walks_slowly());
+        // Scrambled: the same pairs, found by testing many more boxes each.
+        aabbs.reverse();
+        bp.refit(&aabbs);
+        let (found_scrambled, slow) = walk(&mut bp);
+        assert_eq!(found_scrambled, found);
+        assert!(slow.tests > 2 * effort.tests, "{slow:?} vs {effort:?}");
+        assert!(bp.walks_slowly());
+        bp.rebuild_all(&aabbs);
+        let (_, rebuilt) = walk(&mut bp);
+        assert_eq!(rebuilt, effort);
+        assert!(!bp.walks_slowly());
     }
 
     #[test]

@@ -197,8 +197,9 @@ impl World {
         if self.shapes.tree_dirty {
             // A cheap refit (of the nodes above the moved proxies), and a full rebuild (serial,
             // O(n log n): 3.4 ms of a 20,000-body pile's 16 ms step when it ran every step)
-            // only when proxies were added or removed or the refitted tree has grown a
-            // quarter costlier than a fresh one:
+            // only when proxies were added or removed, or the refitted tree has grown a
+            // quarter costlier than a fresh one, or its last walk against itself tested
+            // twice the boxes a pair of its best (`BroadPhase::walks_slowly`):
             // bodies that move together (a falling pile, a drifting cloud) keep a refitted
             // tree good. The tree's shape never changes which pairs are found, nor their
             // order (both are sorted).
@@ -212,7 +213,7 @@ impl World {
                 self.shapes
                     .tree
                     .refit_moved(&self.shapes.swept_boxes, &self.shapes.moved_proxies);
-                if self.shapes.tree.looseness() > 1.25 {
+                if self.shapes.tree.looseness() > 1.25 || self.shapes.tree.walks_slowly() {
                     self.shapes.tree.rebuild(&self.shapes.swept_boxes, in_tree);
                 }
             }
@@ -318,7 +319,8 @@ impl World {
                 Some((u64::from(rank[finder as usize]) << 32) | u64::from(other))
             };
             let walk = spread.for_stage(self.shapes.moved_proxies.len(), self.wide.broad_phase);
-            let mut found = bp.overlapping_pairs_parallel(aabbs, walk, &keep);
+            let (mut found, effort) = bp.overlapping_pairs_parallel(walk, &keep);
+            self.shapes.tree.note_walk(effort);
             // Each task's pairs come sorted: a merge sort joins the runs in O(n log tasks).
             found.sort();
             let moved = std::mem::take(&mut self.shapes.moved_proxies);
