@@ -41,6 +41,49 @@ impl std::ops::Add for WalkEffort {
     }
 }
 
+/// A leaf's boxes as four lanes of each coordinate (a leaf of fewer filled with boxes
+/// that overlap nothing), so that one box is tested against all of them at once.
+struct LeafLanes {
+    min_x: [f32; LEAF_SIZE],
+    min_y: [f32; LEAF_SIZE],
+    max_x: [f32; LEAF_SIZE],
+    max_y: [f32; LEAF_SIZE],
+}
+
+impl LeafLanes {
+    #[inline]
+    fn of(boxes: &[Aabb]) -> LeafLanes {
+        let mut lanes = LeafLanes {
+            min_x: [f32::INFINITY; LEAF_SIZE],
+            min_y: [f32::INFINITY; LEAF_SIZE],
+            max_x: [f32::NEG_INFINITY; LEAF_SIZE],
+            max_y: [f32::NEG_INFINITY; LEAF_SIZE],
+        };
+        for (k, b) in boxes.iter().enumerate().take(LEAF_SIZE) {
+            lanes.min_x[k] = b.min.x;
+            lanes.min_y[k] = b.min.y;
+            lanes.max_x[k] = b.max.x;
+            lanes.max_y[k] = b.max.y;
+        }
+        lanes
+    }
+
+    /// Bit k set where lane k overlaps `b` ([`Aabb::overlaps`], lane by lane without
+    /// branches, which the compiler turns into one vector compare per coordinate).
+    #[inline]
+    fn overlapping(&self, b: &Aabb) -> u32 {
+        let mut mask = 0;
+        for k in 0..LEAF_SIZE {
+            let apart = (self.min_x[k] > b.max.x)
+                | (self.min_y[k] > b.max.y)
+                | (b.min.x > self.max_x[k])
+                | (b.min.y > self.max_y[k]);
+            mask |= u32::from(!apart) << k;
+        }
+        mask
+    }
+}
+
 /// A tree node: an internal node's children, or a leaf's range of `items`.
 #[derive(Clone, Copy, Debug)]
 pub struct Node {
@@ -447,13 +490,14 @@ impl BroadPhase {
             let (na, nb) = (&nodes[a], &nodes[b]);
             if na.is_leaf() && nb.is_leaf() {
                 let (ia, ba) = (self.leaf_items(na), self.leaf_boxes(na));
-                let (ib, bb) = (self.leaf_items(nb), self.leaf_boxes(nb));
+                let ib = self.leaf_items(nb);
                 *tests += (ia.len() * ib.len()) as u64;
+                let lanes = LeafLanes::of(self.leaf_boxes(nb));
                 for (&p, bp) in ia.iter().zip(ba) {
-                    for (&q, bq) in ib.iter().zip(bb) {
-                        if bp.overlaps(bq) {
-                            f(p, q);
-                        }
+                    let mut hits = lanes.overlapping(bp);
+                    while hits != 0 {
+                        f(p, ib[hits.trailing_zeros() as usize]);
+                        hits &= hits - 1;
                     }
                 }
                 continue;

@@ -525,14 +525,23 @@ pub fn collide_polygons(
     }
     for i in 0..nb {
         vb[i] = xf.apply(b.vertices[i]) - origin;
-        nbv[i] = xf.q.apply(b.normals[i]);
     }
     let (va, vb) = (&va[..na], &vb[..nb]);
-    let (an, bn) = (&a.normals[..na], &nbv[..nb]);
-    let (mut edge_a, sep_a) = find_max_separation(va, an, vb);
-    let (mut edge_b, sep_b) = find_max_separation(vb, bn, va);
+    let an = &a.normals[..na];
     let radius = a.radius + b.radius;
-    if sep_a - radius > max_distance || sep_b - radius > max_distance {
+    let (mut edge_a, sep_a) = find_max_separation(va, an, vb);
+    // Apart by more than the margin along one of A's normals: no manifold, whatever B's
+    // normals say (the same result as testing both, as Box2D does; a long turning wall's
+    // pairs with the bodies its box spans are mostly this).
+    if sep_a - radius > max_distance {
+        return Manifold::default();
+    }
+    for i in 0..nb {
+        nbv[i] = xf.q.apply(b.normals[i]);
+    }
+    let bn = &nbv[..nb];
+    let (mut edge_b, sep_b) = find_max_separation(vb, bn, va);
+    if sep_b - radius > max_distance {
         return Manifold::default();
     }
     // The reference face is the one of greater separation; the incident edge is the other
