@@ -121,6 +121,13 @@ pub struct BroadPhase {
     built_cost: f32,
     /// [`cost`](Self::cost) now, kept up to date by the refits.
     current_cost: f32,
+    /// Per node, whether a proxy below it moved (see [`Self::prepare_walk`]); empty: every
+    /// node counts as moved. Emptied by every build and refit.
+    node_moved: Vec<bool>,
+    /// The pieces of the next walk of the tree against itself, and the worker count they
+    /// were cut for (`None`: not prepared since the last build or refit).
+    walk_pieces: Vec<Walk>,
+    pieces_for: Option<usize>,
     /// Box tests per overlapping pair in the walks of the tree against itself since its
     /// last rebuild: the fewest (`None` before the first), and the latest walk's.
     best_walk_effort: Option<f32>,
@@ -170,6 +177,7 @@ impl BroadPhase {
         self.built_cost = self.cost();
         self.current_cost = self.built_cost;
         self.best_walk_effort = None;
+        self.forget_walk();
     }
 
     /// Rebuilds the tree over every proxy of `aabbs`.
@@ -186,6 +194,60 @@ impl BroadPhase {
             .filter(|n| !n.is_leaf())
             .map(|n| n.aabb.perimeter())
             .sum()
+    }
+
+    /// The walk's marks and pieces no longer hold (the boxes or the tree changed).
+    fn forget_walk(&mut self) {
+        self.node_moved.clear();
+        self.pieces_for = None;
+    }
+
+    /// Prepares the next walk of the tree against itself for `workers`: with `moved`, marks
+    /// the nodes above those proxies (all of them in the tree), so that the walk leaves out
+    /// every pair of subtrees neither of which holds one: it finds exactly the pairs with a
+    /// moved member, at a cost that follows what moved and shares the upper levels that one
+    /// query per moved proxy would walk again each time. Then cuts the walk into pieces, in
+    /// a buffer kept from walk to walk (a steady step allocates nothing).
+    pub(crate) fn prepare_walk(&mut self, moved: Option<&[u32]>, workers: usize) {
+        self.mark_moved(moved.unwrap_or(&[]), moved.is_none());
+        let mut pieces = std::mem::take(&mut self.walk_pieces);
+        pieces.clear();
+        if !self.nodes.is_empty() {
+            self.walks_within(0, Self::piece_depth(workers), &mut pieces);
+        }
+        self.walk_pieces = pieces;
+        self.pieces_for = Some(workers);
+    }
+
+    /// How many levels down the walk is cut into pieces for `workers`.
+    fn piece_depth(workers: usize) -> u32 {
+        if workers > 1 { 6 } else { 0 }
+    }
+
+    fn mark_moved(&mut self, moved: &[u32], all: bool) {
+        self.node_moved.clear();
+        if all {
+            return;
+        }
+        let leaf = |p: u32| self.leaf_of.get(p as usize).copied().unwrap_or(NO_NODE);
+        if moved.iter().any(|&p| leaf(p) == NO_NODE) {
+            // Not all in the tree (it was not brought up to date): every node counts.
+            return;
+        }
+        self.node_moved.resize(self.nodes.len(), false);
+        for &p in moved {
+            let mut k = self.leaf_of[p as usize];
+            while k != NO_NODE && !self.node_moved[k as usize] {
+                self.node_moved[k as usize] = true;
+                k = self.parent[k as usize];
+            }
+        }
+    }
+
+    /// Whether a proxy below node `n` moved (every node, until [`Self::mark_moved`]).
+    #[inline]
+    fn moved_below(&self, n: usize) -> bool {
+        self.node_moved.get(n).copied().unwrap_or(true)
     }
 
     /// Whether the latest walk of the tree against itself tested more than twice as many
@@ -274,6 +336,7 @@ impl BroadPhase {
     /// cheaper than a rebuild, at the price of looser nodes as bodies wander. Nodes are stored
     /// parent before child, so a reverse walk sees children first.
     pub(crate) fn refit(&mut self, aabbs: &[Aabb]) {
+        self.forget_walk();
         for (b, &i) in self.item_boxes.iter_mut().zip(&self.items) {
             *b = aabbs[i as usize];
         }
@@ -288,6 +351,7 @@ impl BroadPhase {
     /// where a node's box comes out as it was. The boxes are exactly those of [`Self::refit`];
     /// the cost follows what moved (a tree's depth per proxy), not the proxy count.
     pub(crate) fn refit_moved(&mut self, aabbs: &[Aabb], moved: &[u32]) {
+        self.forget_walk();
         // A walk up reads a node per level, scattered; a full refit streams through every
         // node. Past about one moved proxy in sixteen nodes the full refit is cheaper.
         let missing = moved
@@ -370,9 +434,16 @@ impl BroadPhase {
         if self.nodes.is_empty() {
             return (Vec::new(), WalkEffort::default());
         }
-        let mut walks = Vec::new();
-        let depth = if spread.workers() > 1 { 6 } else { 0 };
-        self.walks_within(0, depth, &mut walks);
+        // The pieces prepared for this walk, or (in tests) cut now.
+        let cut_now;
+        let walks = if self.pieces_for == Some(spread.workers()) {
+            &self.walk_pieces
+        } else {
+            let mut pieces = Vec::new();
+            self.walks_within(0, Self::piece_depth(spread.workers()), &mut pieces);
+            cut_now = pieces;
+            &cut_now
+        };
         for_parts(
             spread,
             &walks[..],
@@ -403,6 +474,9 @@ impl BroadPhase {
     /// The pieces of the walk within subtree `n`, cut `depth` levels down.
     fn walks_within(&self, n: usize, depth: u32, out: &mut Vec<Walk>) {
         let node = self.nodes[n];
+        if !self.moved_below(n) {
+            return;
+        }
         if depth == 0 || node.is_leaf() {
             out.push(Walk::Within(n));
             return;
@@ -416,6 +490,9 @@ impl BroadPhase {
     /// The pieces of the walk of subtree `a` against subtree `b`, cut `depth` levels down.
     fn walks_between(&self, a: usize, b: usize, depth: u32, out: &mut Vec<Walk>) {
         let (na, nb) = (self.nodes[a], self.nodes[b]);
+        if !(self.moved_below(a) || self.moved_below(b)) {
+            return;
+        }
         if depth == 0 || na.is_leaf() || nb.is_leaf() || !na.aabb.overlaps(&nb.aabb) {
             out.push(Walk::Between(a, b));
             return;
@@ -452,6 +529,9 @@ impl BroadPhase {
     /// The pairs within subtree `n`, counting the leaves' box tests into `tests`.
     fn pairs_within(&self, n: usize, f: &mut impl FnMut(u32, u32), tests: &mut u64) {
         let node = self.nodes[n];
+        if !self.moved_below(n) {
+            return;
+        }
         if node.is_leaf() {
             let (items, boxes) = (self.leaf_items(&node), self.leaf_boxes(&node));
             *tests += (items.len() * (items.len() - 1) / 2) as u64;
@@ -476,7 +556,10 @@ impl BroadPhase {
     /// pieces (a pair of leaves is reached exactly when every pair above it overlaps).
     fn pairs_between(&self, a: usize, b: usize, f: &mut impl FnMut(u32, u32), tests: &mut u64) {
         let nodes = &self.nodes;
-        if !nodes[a].aabb.overlaps(&nodes[b].aabb) {
+        let wanted = |a: usize, b: usize| {
+            (self.moved_below(a) || self.moved_below(b)) && nodes[a].aabb.overlaps(&nodes[b].aabb)
+        };
+        if !wanted(a, b) {
             return;
         }
         // Each pop pushes at most two pairs, each a level deeper on one side: the stack
@@ -503,7 +586,7 @@ impl BroadPhase {
                 continue;
             }
             for (a, b) in self.split_pair(a, b) {
-                if nodes[a].aabb.overlaps(&nodes[b].aabb) {
+                if wanted(a, b) {
                     stack[top] = (a as u32, b as u32);
                     top += 1;
                 }
@@ -877,6 +960,45 @@ mod tests {
         let (_, rebuilt) = walk(&mut bp);
         assert_eq!(rebuilt, effort);
         assert!(!bp.walks_slowly());
+    }
+
+    #[test]
+    fn a_walk_after_marking_the_moved_finds_every_pair_with_a_moved_member_and_no_more_work() {
+        let aabbs = boxes(600);
+        let mut bp = BroadPhase::default();
+        bp.rebuild_all(&aabbs);
+        let moved: Vec<u32> = (0..aabbs.len() as u32).filter(|p| p % 7 == 3).collect();
+        let is_moved = |p: u32| p % 7 == 3;
+        let mut brute = Vec::new();
+        for p in 0..aabbs.len() {
+            for q in p + 1..aabbs.len() {
+                let (pu, qu) = (p as u32, q as u32);
+                if aabbs[p].overlaps(&aabbs[q]) && (is_moved(pu) || is_moved(qu)) {
+                    brute.push((pu, qu));
+                }
+            }
+        }
+        assert!(brute.len() > 50, "the scatter overlaps enough to test");
+        let keep = |p: u32, q: u32| (is_moved(p) || is_moved(q)).then_some((p.min(q), p.max(q)));
+        let (_, everything) = bp.overlapping_pairs_parallel(Spread::INLINE, &keep);
+        bp.prepare_walk(Some(&moved), 1);
+        let crew = crate::threads::crew::Crew::start(crate::threads::crew::tests::pool(1));
+        for spread in [Spread::INLINE, Spread::over(&crew)] {
+            let (mut found, effort) = bp.overlapping_pairs_parallel(spread, &keep);
+            found.sort();
+            assert_eq!(found, brute, "{spread:?}");
+            // Subtrees where nothing moved are left out: fewer boxes tested.
+            assert!(
+                effort.tests < everything.tests,
+                "{effort:?} vs {everything:?}"
+            );
+        }
+        // A rebuild forgets the marks: every pair again.
+        bp.rebuild_all(&aabbs);
+        assert_eq!(
+            bp.overlapping_pairs_parallel(Spread::INLINE, &keep).1,
+            everything
+        );
     }
 
     #[test]
