@@ -4,9 +4,12 @@
 //! Why a rebuilt tree and not Box2D's incremental tree: a median-split build over the fat
 //! boxes is O(n log n), has no insertion-order history (so the same boxes always give the
 //! same tree, on any thread count), and a resting scene rebuilds nothing because no fat box
-//! changes. Pair finding queries the tree only with moved proxies, and a few moved proxies
-//! refit only the nodes above them, so its cost follows what moved, not the body count (a
-//! sleeping pile beside one moving body costs the tree nothing).
+//! changes. Pair finding queries the tree only with moved proxies (or, where many moved,
+//! walks the tree against itself once, leaving out the subtrees where nothing moved), and a
+//! few moved proxies refit only the nodes above them, so its cost follows what moved, not the
+//! body count (a sleeping pile beside one moving body costs the tree nothing). A refitted
+//! tree is rebuilt when its walks grow twice as slow per pair found as its best since the
+//! last rebuild, which a few large turning boxes can hide from its cost.
 
 use glam::Vec2;
 
