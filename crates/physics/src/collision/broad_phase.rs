@@ -205,14 +205,14 @@ impl BroadPhase {
         self.pieces_for = None;
     }
 
-    /// Prepares the next walk of the tree against itself for `workers`: with `moved`, marks
-    /// the nodes above those proxies (all of them in the tree), so that the walk leaves out
+    /// Prepares the next walk of the tree against itself for `workers`: marks the nodes
+    /// above the proxies in `moved` (all of them in the tree), so that the walk leaves out
     /// every pair of subtrees neither of which holds one: it finds exactly the pairs with a
     /// moved member, at a cost that follows what moved and shares the upper levels that one
     /// query per moved proxy would walk again each time. Then cuts the walk into pieces, in
     /// a buffer kept from walk to walk (a steady step allocates nothing).
-    pub(crate) fn prepare_walk(&mut self, moved: Option<&[u32]>, workers: usize) {
-        self.mark_moved(moved.unwrap_or(&[]), moved.is_none());
+    pub(crate) fn prepare_walk(&mut self, moved: &[u32], workers: usize) {
+        self.mark_moved(moved);
         let mut pieces = std::mem::take(&mut self.walk_pieces);
         pieces.clear();
         if !self.nodes.is_empty() {
@@ -227,11 +227,8 @@ impl BroadPhase {
         if workers > 1 { 6 } else { 0 }
     }
 
-    fn mark_moved(&mut self, moved: &[u32], all: bool) {
+    fn mark_moved(&mut self, moved: &[u32]) {
         self.node_moved.clear();
-        if all {
-            return;
-        }
         let leaf = |p: u32| self.leaf_of.get(p as usize).copied().unwrap_or(NO_NODE);
         if moved.iter().any(|&p| leaf(p) == NO_NODE) {
             // Not all in the tree (it was not brought up to date): every node counts.
@@ -247,7 +244,7 @@ impl BroadPhase {
         }
     }
 
-    /// Whether a proxy below node `n` moved (every node, until [`Self::mark_moved`]).
+    /// Whether a proxy below node `n` moved (every node, until [`Self::prepare_walk`]).
     #[inline]
     fn moved_below(&self, n: usize) -> bool {
         self.node_moved.get(n).copied().unwrap_or(true)
@@ -984,7 +981,7 @@ mod tests {
         assert!(brute.len() > 50, "the scatter overlaps enough to test");
         let keep = |p: u32, q: u32| (is_moved(p) || is_moved(q)).then_some((p.min(q), p.max(q)));
         let (_, everything) = bp.overlapping_pairs_parallel(Spread::INLINE, &keep);
-        bp.prepare_walk(Some(&moved), 1);
+        bp.prepare_walk(&moved, 1);
         let crew = crate::threads::crew::Crew::start(crate::threads::crew::tests::pool(1));
         for spread in [Spread::INLINE, Spread::over(&crew)] {
             let (mut found, effort) = bp.overlapping_pairs_parallel(spread, &keep);

@@ -232,7 +232,7 @@ impl World {
         let walk = spread.for_stage(self.shapes.moved_proxies.len(), self.wide.broad_phase);
         if walk_tree {
             let tree = &mut self.shapes.tree;
-            tree.prepare_walk(Some(&self.shapes.moved_proxies), walk.workers());
+            tree.prepare_walk(&self.shapes.moved_proxies, walk.workers());
         }
         let bp = &self.shapes.tree;
         let aabbs = &self.shapes.swept_boxes;
@@ -375,7 +375,8 @@ impl World {
     }
 
     /// Hands the moved proxies, their pairs made, to the narrow phase (their flags stay set
-    /// for it), noting the boxes they were searched with, and gives `moved` the other buffer for finalize to fill.
+    /// for it), noting the boxes they were searched with, and gives `moved` the other buffer
+    /// for finalize to fill.
     fn finish_moved(&mut self, moved: Vec<u32>) {
         debug_assert!(self.shapes.moved_done.is_empty());
         let shapes = &mut self.shapes;
