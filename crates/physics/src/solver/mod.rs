@@ -154,6 +154,11 @@ pub struct Solver {
     /// For each touching contact (by position in `touching`), its lane of a wide
     /// constraint, or `NO_LANE` when it is a scalar constraint.
     lane_of: Vec<LaneIndex>,
+    /// For each lane of each wide constraint (`wide << 3 | lane`), the index in `touching`
+    /// of the contact it is built from (`lane_of`'s inverse; unused lanes hold `u32::MAX`).
+    lane_source: Vec<u32>,
+    /// The wide constraints whose lanes two workers wrote in the last prepare (a buffer).
+    straddlers: Vec<u32>,
     /// The awake joints' slots in stage order: `joint_order[joint_ranges[k]]` are solved in
     /// stage k with the contacts of `color_ranges[k]` (k = 0 the overflow).
     pub joint_order: Vec<u32>,
@@ -245,14 +250,10 @@ impl Solver {
         spread: Spread<'_>,
         min_per_worker: usize,
     ) {
-        // The threshold in each loop's units: a wide constraint holds eight contacts, and a
-        // loop that only compares a pair or a flag splits at eight times the count of one
-        // that builds constraints (a proportion assumed, not measured).
-        let (min, min_wide, min_check) = (
-            min_per_worker,
-            min_per_worker.div_ceil(LANES),
-            min_per_worker.saturating_mul(8),
-        );
+        // The threshold in each loop's units: a loop that only compares a pair or a flag
+        // splits at eight times the count of one that builds constraints (a proportion
+        // assumed, not measured).
+        let (min, min_check) = (min_per_worker, min_per_worker.saturating_mul(8));
         // The colouring is a function of the sequence of dynamic pairs alone (and of the
         // body count and whether colours are packed), so when that sequence is last step's
         // (a resting pile: 299 of 300 steps of large_pyramid) last step's colours, ranges and
@@ -313,9 +314,12 @@ impl Solver {
         );
 
         // The wide constraints, lane by lane in contact order (the contacts stream in; a walk
-        // by constraint read them scattered, 60 ns a lane on large_pyramid), then each
-        // constraint's masks and tail. Every field of every used lane is written, so the
-        // buffer is reused as it is (a fresh 2 MB allocation each step costs page faults).
+        // by constraint read them scattered, 60 ns a lane on large_pyramid). The worker that
+        // writes a constraint's last lane, having written all of them, completes it while it
+        // is still in the cache: masks, tail and the point terms of all eight lanes at once
+        // (a separate pass over the constraints read them back cold, a tenth of prepare on
+        // washer). Every field of every lane is written, so the buffer is reused as it is
+        // (a fresh 2 MB allocation each step costs page faults).
         self.wide
             .resize(self.wide_lanes.len(), WideConstraint::EMPTY);
         // Only a buffer well past the caches is cold at every lane's first store; below that
@@ -328,14 +332,23 @@ impl Solver {
             self.wide_surfaces
                 .resize(self.wide.len(), WideSurface::ZERO);
         }
-        {
+        // A constraint whose lanes two workers wrote (its contacts straddle the boundary of
+        // their parts; at most one per colour per boundary) is completed after the loop.
+        self.straddlers
+            .resize(crate::threads::parallel::MAX_PARTS * COLOR_COUNT, 0);
+        let straddling = std::sync::atomic::AtomicUsize::new(0);
+        let any_bounce = {
+            let straddlers = SharedSlice::new(&mut self.straddlers);
             // SAFETY: every touching contact has its own lane (`lane_of` is injective on
-            // the lanes it assigns), and nothing else touches `self.wide` until `writer`
-            // is dropped at the end of this block.
+            // the lanes it assigns); a constraint is completed once, by the one worker that
+            // wrote all its lanes, or after the loop; nothing else touches `self.wide` until
+            // `writer` is dropped at the end of this block.
             #[allow(unsafe_code)]
             let writer = unsafe { LaneWriter::shared(&mut self.wide, &mut self.wide_surfaces) };
-            let lane_of = &self.lane_of;
-            let write_lane = |k: usize| {
+            let (lane_of, lane_source, wide_lanes) =
+                (&self.lane_of, &self.lane_source, &self.wide_lanes);
+            let use_avx = self.use_avx;
+            let write_lane = |k: usize, first: usize| -> bool {
                 // The touching contacts lie sparse in the contact array where many pairs
                 // only overlap (smash: a third touch), which the hardware does not
                 // prefetch: 30% of this loop waited on the contact's first line.
@@ -344,57 +357,80 @@ impl Solver {
                 }
                 let at = lane_of[k];
                 if at == NO_LANE {
-                    return;
+                    return false;
                 }
+                let (w, l) = ((at >> 3) as usize, (at & 7) as usize);
                 // A colour's constraints fill in order, eight of its contacts each: while one
                 // fills, an eighth of the next is fetched per lane, whose 18 cold lines would
                 // otherwise stall the stores of its first lane (a fifth of this loop on
                 // many_pyramids).
                 if cold {
-                    writer.prefetch((at >> 3) as usize + 1, (at & 7) as usize);
+                    writer.prefetch(w + 1, l);
                 }
                 let contact = touching[k].contact;
                 let input = input_of(&contacts[contact as usize], surface);
                 let [a, b] = &input.masses;
                 let softness = params.softness(a, b);
+                let bounces = input.restitution > 0.0;
                 let lane = LaneInput {
                     contact,
                     input,
                     softness,
                 };
-                writer.write(at, &lane, states, params);
-            };
-            for_each_part(spread, 0..touching.len(), min, &|_, part: Range<usize>| {
-                part.for_each(write_lane)
-            });
-        }
-        for_each_part(
-            spread,
-            (&mut self.wide[..], &self.wide_lanes[..]),
-            min_wide,
-            &|_, (wide, lanes): (&mut [WideConstraint], &[u8])| {
-                for (w, &lanes) in wide.iter_mut().zip(lanes) {
-                    w.finish(lanes as usize);
+                writer.write(at, &lane, params);
+                let lanes = wide_lanes[w] as usize;
+                if l + 1 == lanes {
+                    // Lanes fill in contact order, so lane 0 came first: in this part, this
+                    // worker wrote them all.
+                    if lane_source[w * LANES] as usize >= first {
+                        // SAFETY: this worker wrote every lane of `w`, just now or before.
+                        #[allow(unsafe_code)]
+                        unsafe {
+                            writer.complete(w, lanes, states, use_avx)
+                        };
+                    } else {
+                        let slot = straddling.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                        // SAFETY: each slot is claimed once, by the fetch above.
+                        #[allow(unsafe_code)]
+                        unsafe {
+                            *straddlers.at_mut(slot as u32) = w as u32
+                        };
+                    }
                 }
-            },
-        );
+                bounces
+            };
+            let any = for_parts(
+                spread,
+                0..touching.len(),
+                min,
+                &|_, part: Range<usize>| {
+                    let first = part.start;
+                    part.fold(false, |any, k| write_lane(k, first) | any)
+                },
+                &|a, b| a || b,
+            );
+            // Every worker is done: the straddlers' lanes are all written.
+            for &w in &self.straddlers[..straddling.into_inner()] {
+                let w = w as usize;
+                // SAFETY: as above; the loop that wrote its lanes has joined.
+                #[allow(unsafe_code)]
+                unsafe {
+                    writer.complete(w, self.wide_lanes[w] as usize, states, use_avx)
+                };
+            }
+            any
+        };
         for (w, s) in self.wide.iter().zip(&mut self.wide_surfaces) {
             w.finish_surface(s);
         }
-        let or = |a: bool, b: bool| a || b;
-        self.any_restitution = for_parts(
-            spread,
-            &self.constraints[..],
-            min_check,
-            &|_, part: &[ContactConstraint]| part.iter().any(|c| c.restitution > 0.0),
-            &or,
-        ) || for_parts(
-            spread,
-            &self.wide[..],
-            min_check.div_ceil(LANES),
-            &|_, part: &[WideConstraint]| part.iter().any(|w| w.any_restitution()),
-            &or,
-        );
+        self.any_restitution = any_bounce
+            || for_parts(
+                spread,
+                &self.constraints[..],
+                min_check,
+                &|_, part: &[ContactConstraint]| part.iter().any(|c| c.restitution > 0.0),
+                &|a, b| a || b,
+            );
     }
 
     /// Drops the kept colouring, so the next prepare colours from scratch (the same result:
@@ -513,6 +549,14 @@ impl Solver {
                 }
             },
         );
+        self.lane_source.clear();
+        self.lane_source
+            .resize(self.wide_lanes.len() * LANES, u32::MAX);
+        for (k, &at) in self.lane_of.iter().enumerate() {
+            if at != NO_LANE {
+                self.lane_source[at as usize] = k as u32;
+            }
+        }
     }
 
     /// Copies the awake joints into stage order and prepares each (after

@@ -280,7 +280,7 @@ split_tuple!(A 0, B 1, C 2, D 3);
 split_tuple!(A 0, B 1, C 2, D 3, E 4);
 
 /// Most parts a stage is cut into (its slots live on the leader's stack).
-const MAX_PARTS: usize = 64;
+pub(crate) const MAX_PARTS: usize = 64;
 
 /// One part of a stage and its result, each touched by the one worker that claimed it.
 struct PartSlot<S, R> {
