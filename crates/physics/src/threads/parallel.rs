@@ -389,8 +389,9 @@ pub fn worker_range(range: &Range<usize>, index: usize, count: usize) -> Range<u
 /// [`BLOCK_AFTER`], so that on a busy machine the worker we wait for, descheduled, can have
 /// this core (a spinning or yielding waiter keeps it: measured on 2 cores beside a compiler,
 /// `pile_3200`'s 2-thread step took 2.6 ms spinning against 1.1 blocking in rayon). In a Web
-/// Worker `yield_now` does nothing, so there it blocks after spinning (measured in chromium
-/// at 2 threads on a busy machine: 40.9 -> 3.5 ms per step).
+/// Worker `yield_now` does nothing, so there it only spins, and blocks after
+/// [`WASM_BLOCK_AFTER`] (measured in chromium at 2 threads on a busy machine: spinning without
+/// end, 40.9 ms per step; blocking after a few µs, 3.5).
 #[derive(Default)]
 pub(crate) struct Parking {
     sleepers: AtomicUsize,
@@ -407,6 +408,13 @@ pub(crate) struct Parking {
 /// 2000 µs gained nothing more (tumbler 1.12). Beside two busy processes the medians were
 /// 0.87 and 1.01, with spreads of 0.7 to 2.4 either way.
 const BLOCK_AFTER: std::time::Duration = std::time::Duration::from_micros(500);
+/// [`BLOCK_AFTER`] in a Web Worker, which cannot yield: it only spins until then. It blocked
+/// after 4096 spins, a few µs, so most gaps between the solver's stages put it to sleep, and a
+/// blocked worker takes tens of µs to wake. Measured in chromium (`?bench=large_pyramid`, 2
+/// threads, after `&warmup=300`; a 2-vCPU Intel Xeon, shared and busy), 200 µs ÷ 4096 spins:
+/// median 0.82 of 10 interleaved pairs (8 under 0.9, least 0.53, most 1.11); 500 µs ÷ 200 µs
+/// 1.17 and 100 µs ÷ 200 µs 1.25 (4 pairs each, spreads of 0.6 to 1.4).
+const WASM_BLOCK_AFTER: std::time::Duration = std::time::Duration::from_micros(200);
 
 #[cfg(not(target_arch = "wasm32"))]
 fn now() -> std::time::Instant {
@@ -429,11 +437,12 @@ impl Parking {
                 std::hint::spin_loop();
                 continue;
             }
-            let block = if cfg!(target_arch = "wasm32") {
-                spins > 4096
-            } else {
-                since.get_or_insert_with(now).elapsed() > BLOCK_AFTER
-            };
+            let block = since.get_or_insert_with(now).elapsed()
+                > if cfg!(target_arch = "wasm32") {
+                    WASM_BLOCK_AFTER
+                } else {
+                    BLOCK_AFTER
+                };
             if !block {
                 // On an oversubscribed machine let the worker we wait for run.
                 std::thread::yield_now();
