@@ -8,7 +8,8 @@
 //!    then **store** the accumulated impulses into the contacts for the next step's warm start.
 //!
 //! Each colour's constraints touch disjoint dynamic bodies; the passes walk colours in order,
-//! each colour a stage of the plan that [`crate::threads::parallel::StageBoard`] runs on the workers.
+//! each colour a stage of the plan that [`crate::threads::parallel::StageBoard`] runs on the
+//! workers.
 
 pub mod contact_solver;
 pub mod graph_color;

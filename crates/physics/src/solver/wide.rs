@@ -201,8 +201,8 @@ impl<'a> LaneWriter<'a> {
             put!((*w).friction, f32, c.friction);
             put!((*w).restitution, f32, c.restitution);
             // Surface materials only where the lane has one, into the side array:
-            // `finish_surface` zeroes the other lanes of a constraint that needs them, and one that does not
-            // never reads them.
+            // `finish_surface` zeroes the other lanes of a constraint that needs them, and one
+            // that does not never reads them.
             if c.tangent_speed != 0.0 || c.rolling_resistance > 0.0 {
                 assert!(
                     wide < self.surfaces_len,
@@ -267,8 +267,8 @@ impl WideConstraint {
     /// 0's, with zero masses: they read, never write, and apply no impulse), folds the lanes'
     /// flags into the masks, and computes every lane's point terms at once, with the
     /// operations of `contact_solver::point_terms` in its order (the scalar constraints'
-    /// own function, so both agree bit for bit): eight lanes in one pass instead of one lane
-    /// at a time, a third of prepare's build on large_pyramid.
+    /// own function, so both agree bit for bit). Called while the constraint's lines are
+    /// still in the cache from its lane writes (`LaneWriter::complete`).
     pub fn build(&mut self, lanes: usize, states: &[BodyState], use_avx: bool) {
         debug_assert!((1..=LANES).contains(&lanes));
         self.lanes = lanes as u8;
