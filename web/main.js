@@ -58,6 +58,7 @@ async function main() {
   await initThreadPool(navigator.hardwareConcurrency || 1);
   const params = new URLSearchParams(location.search);
   if (params.has('bench')) return bench(params);
+  if (params.has('scene') && Number(params.get('warmup') || 0) > 0) await warmUp(params);
   text.textContent = 'Starting…';
   start();
   // The loading screen goes once the first frame is drawn.
@@ -88,6 +89,26 @@ async function bench(params) {
   window.tumble_bench = { scene, threads, steps, warmup, ...profile, cross_origin_isolated: self.crossOriginIsolated };
   bar.classList.remove('busy');
   text.textContent = `${scene}: ${profile.step_ms_mean.toFixed(3)} ms per step on ${threads} thread(s), mean of ${steps} steps`;
+}
+
+/// `?scene=SCENE&threads=T&warmup=K`: before the viewer starts, a throwaway world of the scene
+/// steps K times untimed (`benchStart`'s warm-up, on a worker), so the viewer's steps, and
+/// its `step_ms_mean`, run code the browser has compiled, as `?bench=` does with `&warmup`.
+async function warmUp(params) {
+  const scene = params.get('scene');
+  const threads = Number(params.get('threads') || 1);
+  const warmup = Number(params.get('warmup'));
+  text.textContent = `Warming up: ${scene}, ${warmup} steps…`;
+  await new Promise((resolve) => setTimeout(resolve, 50));
+  try {
+    benchStart(scene, threads, 1, warmup);
+  } catch (e) {
+    // A scene the runner cannot load: the viewer says why once it starts.
+    return;
+  }
+  while (benchResult() === undefined) {
+    await new Promise((resolve) => setTimeout(resolve, 100));
+  }
 }
 
 main().catch(fail);

@@ -7,8 +7,9 @@
 // `tumble-bench` and viewer of the same commit. For each repeat and case, in turn: native
 // `?bench=` (`tumble-bench run SCENE --threads N --steps 300`), web `?bench=` (the page
 // `?bench=SCENE&threads=N&steps=300&warmup=300`: the timed steps run compiled code), the
-// native viewer (300 frames under Xvfb), the web viewer (`window.tumble.step_ms_mean` 10 s
-// after its first frames). One JSON line per case on stdout, all of them in
+// native viewer (300 frames under Xvfb), the web viewer (the page
+// `?scene=SCENE&threads=N&warmup=300`, `window.tumble.step_ms_mean` 10 s after its first
+// frames). One JSON line per case on stdout, all of them in
 // web_vs_native_TIME.json. Needs `npm ci` in this folder, chromium and xvfb-run.
 import http from 'node:http';
 import fs from 'node:fs';
@@ -68,7 +69,7 @@ for (let r = 0; r < Number(repeats); r++) {
     const nb = JSON.parse(execFileSync(bench, ['run', scene, '--threads', threads, '--steps', '300']));
     const wb = await web(`bench=${scene}&threads=${threads}&steps=300&warmup=300`, false);
     const nv = nativeViewer(scene, threads);
-    const wv = await web(`scene=${scene}&threads=${threads}`, true);
+    const wv = await web(`scene=${scene}&threads=${threads}&warmup=300`, true);
     const row = { repeat: r, scene, threads: Number(threads), load_before: before, load_after: load(),
       native_bench: nb.profile.step_ms_mean, web_bench: wb.step_ms_mean, native_hash: nb.state_hash, web_hash: wb.state_hash,
       isolated: wb.cross_origin_isolated, native_viewer: nv.step_ms_mean, web_viewer: wv.step_ms_mean, web_viewer_steps: wv.steps, web_viewer_frames: wv.frames };
