@@ -328,17 +328,7 @@ impl WideConstraint {
                 }
             }
         }
-        #[cfg(target_arch = "x86_64")]
-        if use_avx && super::lanes::avx2_available() {
-            // SAFETY: the CPU has AVX2 (checked just above).
-            #[allow(unsafe_code)]
-            unsafe {
-                point_terms_avx2(self, states, has_point)
-            };
-            return;
-        }
-        let _ = use_avx;
-        point_terms_with::<f32x8>(self, states, has_point)
+        wide_point_terms(self, states, has_point, use_avx);
     }
 }
 
@@ -748,6 +738,21 @@ macro_rules! dispatch {
         let _ = $use_avx;
         $kernel::<f32x8>($($arg),*)
     }};
+}
+
+/// [`point_terms_with`] on the lanes `use_avx` picks (as `dispatch!` picks them).
+fn wide_point_terms(
+    c: &mut WideConstraint,
+    states: &[BodyState],
+    has_point: [u8; 2],
+    use_avx: bool,
+) {
+    dispatch!(
+        use_avx,
+        point_terms_with,
+        point_terms_avx2,
+        (c, states, has_point)
+    )
 }
 
 /// Warm start: apply the accumulated impulses again. `surfaces` is empty (a world without
