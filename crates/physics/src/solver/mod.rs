@@ -155,9 +155,9 @@ pub struct Solver {
     /// For each touching contact (by position in `touching`), its lane of a wide
     /// constraint, or `NO_LANE` when it is a scalar constraint.
     lane_of: Vec<LaneIndex>,
-    /// For each lane of each wide constraint (`wide << 3 | lane`), the index in `touching`
-    /// of the contact it is built from (`lane_of`'s inverse; unused lanes hold `u32::MAX`).
-    lane_source: Vec<u32>,
+    /// For each wide constraint, the index in `touching` of the contact in its lane 0 (the
+    /// first of its contacts in contact order).
+    first_lane_source: Vec<u32>,
     /// The wide constraints whose lanes two workers wrote in the last prepare (a buffer).
     straddlers: Vec<u32>,
     /// The awake joints' slots in stage order: `joint_order[joint_ranges[k]]` are solved in
@@ -346,8 +346,8 @@ impl Solver {
             // `writer` is dropped at the end of this block.
             #[allow(unsafe_code)]
             let writer = unsafe { LaneWriter::shared(&mut self.wide, &mut self.wide_surfaces) };
-            let (lane_of, lane_source, wide_lanes) =
-                (&self.lane_of, &self.lane_source, &self.wide_lanes);
+            let (lane_of, first_lane_source, wide_lanes) =
+                (&self.lane_of, &self.first_lane_source, &self.wide_lanes);
             let use_avx = self.use_avx;
             let write_lane = |k: usize, first: usize| -> bool {
                 // The touching contacts lie sparse in the contact array where many pairs
@@ -383,7 +383,7 @@ impl Solver {
                 if l + 1 == lanes {
                     // Lanes fill in contact order, so lane 0 came first: in this part, this
                     // worker wrote them all.
-                    if lane_source[w * LANES] as usize >= first {
+                    if first_lane_source[w] as usize >= first {
                         // SAFETY: this worker wrote every lane of `w`, just now or before.
                         #[allow(unsafe_code)]
                         unsafe {
@@ -550,12 +550,12 @@ impl Solver {
                 }
             },
         );
-        self.lane_source.clear();
-        self.lane_source
-            .resize(self.wide_lanes.len() * LANES, u32::MAX);
+        self.first_lane_source.clear();
+        self.first_lane_source
+            .resize(self.wide_lanes.len(), u32::MAX);
         for (k, &at) in self.lane_of.iter().enumerate() {
-            if at != NO_LANE {
-                self.lane_source[at as usize] = k as u32;
+            if at != NO_LANE && at & 7 == 0 {
+                self.first_lane_source[(at >> 3) as usize] = k as u32;
             }
         }
     }
