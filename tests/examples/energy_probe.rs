@@ -75,6 +75,13 @@ fn main() {
             false,
         );
     }
+    run(
+        "impacts bounce",
+        steps,
+        |s| s.impacts_bounce = true,
+        4,
+        false,
+    );
     for passes in [4, 8] {
         run(
             &format!("defaults, {passes} restitution passes"),

@@ -99,8 +99,8 @@ pub use threads::{SpawnWorker, default_thread_count, set_thread_source};
 pub use world::draw;
 pub use world::{
     BodyMove, BodyView, ContactView, CustomFilter, DebugDraw, DrawOptions, Event, EventCursor,
-    ExplosionDef, PreSolve, QueryFilter, RayHit, ShapeDraw, ShapeRef, ShapeView, StepSettings,
-    WideThresholds, World, WorldError, WorldSnapshot,
+    ExplosionDef, PreSolve, QueryFilter, RESTITUTION_PASSES, RayHit, ShapeDraw, ShapeRef,
+    ShapeView, StepSettings, WideThresholds, World, WorldError, WorldSnapshot,
 };
 
 /// Length tolerance used by collision (Box2D's `B2_LINEAR_SLOP`, 5 mm).

@@ -12,7 +12,7 @@ pub struct StepProfile {
     /// Colour the constraint graph and prepare the contact constraints.
     pub prepare_ms: f64,
     /// The substeps (integrate velocities, warm start, solve, integrate positions, relax),
-    /// then the restitution pass.
+    /// then the restitution passes.
     pub solve_ms: f64,
     /// Store the accumulated impulses into the contacts for the next step's warm start.
     pub store_impulses_ms: f64,
@@ -37,6 +37,9 @@ pub struct StepProfile {
     pub colors: usize,
     /// Constraints that fitted no colour and were solved serially.
     pub overflow: usize,
+    /// Restitution passes the step took: until one moved no point by more than 1 mm/s, at
+    /// most `StepSettings::restitution_iterations` (0 when nothing could bounce).
+    pub restitution_passes: u32,
     /// Proxies whose fat box changed in the last step.
     pub moved: usize,
     /// Workers that ran the substeps (1 below `WideThresholds::solve` touching contacts a

@@ -92,11 +92,13 @@ pub struct SolverDef {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[cfg_attr(feature = "schema", schemars(range(min = 1, max = MAX_SOLVER_PASSES)))]
     pub relax_iterations: Option<u32>,
-    /// Approach speed below which nothing bounces (m/s, >= 0; default 1).
+    /// Approach speed below which nothing bounces (m/s, >= 0; default 1): with
+    /// `impacts_bounce`, nothing already pushing.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub restitution_threshold: Option<f32>,
-    /// Restitution passes at the end of a step (1 to 64; default 1).
+    /// Restitution passes at the end of a step (1 to 64; default 1): exactly these with
+    /// `impacts_bounce` false, else until the bounces hold, at most this or 16.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[cfg_attr(feature = "schema", schemars(range(min = 1, max = MAX_SOLVER_PASSES)))]
     pub restitution_iterations: Option<u32>,
@@ -124,6 +126,12 @@ pub struct SolverDef {
     /// dropped flat lands straight (default false: one after the other, as Box2D v3).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub solve_points_together: Option<bool>,
+    /// Impacts bounce as their restitution says: the restitution threshold applies only to
+    /// contacts already pushing, and the restitution passes repeat until the bounces hold
+    /// (default false: Box2D v3's rule, the threshold for every contact and exactly
+    /// `restitution_iterations` passes).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub impacts_bounce: Option<bool>,
 }
 
 /// Most relax or restitution passes a scene may ask for: each is a full pass over every
@@ -166,6 +174,7 @@ impl SolverDef {
             &mut settings.solve_points_together,
             self.solve_points_together,
         );
+        set(&mut settings.impacts_bounce, self.impacts_bounce);
     }
 
     /// Checks each given field; the error names it as `solver.<field>`.

@@ -1382,13 +1382,17 @@ fn elastic_box(with_gravity: bool) -> Result<Case> {
              inertias from the shapes (the same in the three engines). **drift**: the largest \
              |E − E₀| / E₀ over the run; **final**: (E − E₀) / E₀ at 60 s, signed. Gravity is \
              off so that only the contacts can change the energy (the next case turns it on). \
-             Two losses show: a collision slower than the restitution threshold (1 m/s) is \
-             inelastic, which cools the gas ever faster as it slows; and a ball that touches \
-             two others (or a wall) within one step gets its restitution impulses one contact \
-             after the other, once per step (Box2D's single restitution pass), so the second \
-             sends it back into the first, whose soft contact then stops it. tumble's \
-             `restitution_iterations` repeats the pass until the bounces hold for every \
-             contact at once.",
+             Box2D's restitution loses it two ways: a collision slower than the restitution \
+             threshold (1 m/s) is inelastic, which cools the gas ever faster as it slows; and \
+             a ball that touches two others (or a wall) within one step gets its restitution \
+             impulses one contact after the other, once per step (Box2D's single restitution \
+             pass), so the second sends it back into the first, whose soft contact then stops \
+             it. tumble's `impacts_bounce` applies the threshold only to contacts that \
+             already pushed in the step before (at rest), so an impact bounces at any speed, \
+             and repeats the restitution pass until one moves no rebound faster than the \
+             threshold by more than 1 mm/s (at most 16 passes), so the bounces hold for every \
+             contact at once. Repeated passes at threshold 0 also converge, but a fixed \
+             number of them, and a resting contact bounces too.",
         )
     };
     Ok(Case {
@@ -1404,16 +1408,23 @@ fn elastic_box(with_gravity: bool) -> Result<Case> {
                 .plot(),
             MetricDef::new("final change", "energy_final"),
         ],
-        // The restitution threshold, then more restitution passes at threshold 0 (one pass
-        // bounces a ball off a wall and back into it when it meets another ball in the same
-        // step; 16 passes converge: docs/accuracy/REPORT.md).
-        extras: [(0.0, 1), (0.25, 1), (0.0, 4), (0.0, 16)]
-            .map(|(threshold, restitution_passes)| Knobs {
-                threshold,
-                restitution_passes,
-                ..Knobs::DEFAULT
-            })
-            .to_vec(),
+        // The restitution threshold (which the peers take too); 16 passes at threshold 0
+        // (one pass bounces a ball off a wall and back into it when it meets another ball in
+        // the same step); and tumble's impacts that bounce.
+        extras: [
+            (0.0, 1, false),
+            (0.25, 1, false),
+            (0.0, 4, false),
+            (0.0, 16, false),
+            (1.0, 1, true),
+        ]
+        .map(|(threshold, restitution_passes, impacts)| Knobs {
+            threshold,
+            restitution_passes,
+            impacts,
+            ..Knobs::DEFAULT
+        })
+        .to_vec(),
         probe,
         scene,
     })

@@ -94,7 +94,10 @@ impl Engine {
             Engine::Tumble => true,
             // Neither peer has more than one restitution pass.
             Engine::Box2d => {
-                k.relax == d.relax && k.restitution_passes == d.restitution_passes && !k.together
+                k.relax == d.relax
+                    && k.restitution_passes == d.restitution_passes
+                    && !k.together
+                    && !k.impacts
             }
             // Rapier has no restitution threshold: a contact with restitution >= 1 always
             // bounces, others bounce on their first step of contact. Its joints' locked rows
@@ -104,6 +107,7 @@ impl Engine {
                     && k.restitution_passes == d.restitution_passes
                     && k.joint_hertz == d.joint_hertz
                     && !k.together
+                    && !k.impacts
             }
         }
     }
@@ -112,7 +116,7 @@ impl Engine {
     pub fn knob_names(self) -> &'static str {
         match self {
             Engine::Tumble => {
-                "`step(dt, substeps)`; `StepSettings::{relax_iterations, contact_hertz, max_push_speed, restitution_threshold, restitution_iterations, solve_points_together}`"
+                "`step(dt, substeps)`; `StepSettings::{relax_iterations, contact_hertz, max_push_speed, restitution_threshold, restitution_iterations, solve_points_together, impacts_bounce}`"
             }
             Engine::Box2d => {
                 "`b2World_Step(dt, subStepCount)`; `b2WorldDef::{contactHertz, contactSpeed, restitutionThreshold}` (no relax knob: Box2D always runs one relax pass per substep)"
@@ -145,6 +149,9 @@ pub struct Knobs {
     /// A manifold's two points solved together (tumble only:
     /// `StepSettings::solve_points_together`).
     pub together: bool,
+    /// Impacts bounce as restitution says: the threshold only for contacts already pushing,
+    /// and passes until the bounces hold (tumble only: `StepSettings::impacts_bounce`).
+    pub impacts: bool,
 }
 
 impl Knobs {
@@ -158,6 +165,7 @@ impl Knobs {
         restitution_passes: 1,
         joint_hertz: 60.0,
         together: false,
+        impacts: false,
     };
 
     /// "4 sub", "4 sub, 2 relax", "4 sub, 15 Hz", "4 sub, push 1 m/s": the substeps and
@@ -186,6 +194,9 @@ impl Knobs {
         if self.together {
             s.push_str(", points together");
         }
+        if self.impacts {
+            s.push_str(", impacts bounce");
+        }
         s
     }
 
@@ -199,6 +210,8 @@ impl Knobs {
         };
         if self.together {
             format!("{prefix}pt")
+        } else if self.impacts {
+            format!("{prefix}ib")
         } else if self.joint_hertz != d.joint_hertz {
             format!("{prefix}j{}Hz", self.joint_hertz)
         } else if self.relax != d.relax {
@@ -287,6 +300,7 @@ fn apply(settings: &mut StepSettings, knobs: &Knobs) {
     settings.restitution_threshold = knobs.threshold;
     settings.restitution_iterations = knobs.restitution_passes;
     settings.solve_points_together = knobs.together;
+    settings.impacts_bounce = knobs.impacts;
 }
 
 /// tumble behind the peers' trait, so one loop runs and times every engine.

@@ -78,6 +78,8 @@ pub struct ContactConstraint {
     pub count: usize,
     /// Its two points are solved from the same velocities ([`points_together`]).
     pub together: bool,
+    /// The restitution threshold applies to it ([`threshold_applies`]).
+    pub at_rest: bool,
     /// The points.
     pub points: [ConstraintPoint; 2],
 }
@@ -337,13 +339,55 @@ pub fn solve(
     }
 }
 
-/// Restitution, once per step after the substeps: points that approached faster than the
-/// threshold and actually pushed get their rebound velocity `-e·vn` (docs/soft_step.md 2.10).
+/// Whether the restitution threshold applies to a contact: to every one by Box2D's rule;
+/// with `impacts_bounce`, only to one that pushed in the last step (a point of its manifold
+/// kept an impulse), so that an impact bounces at any approach speed while a resting
+/// contact's tiny approaches do not set it jittering. One definition for the scalar and the
+/// 8-lane constraints.
+#[inline(always)]
+pub fn threshold_applies(impacts_bounce: bool, manifold: &crate::collision::Manifold) -> bool {
+    !impacts_bounce || manifold.points().iter().any(|p| p.normal_impulse > 0.0)
+}
+
+/// Most restitution passes `StepSettings::impacts_bounce` takes for the bounces to hold
+/// (unless `restitution_iterations` allows more): the elastic box's worst step took 14
+/// (docs/accuracy/REPORT.md).
+pub const RESTITUTION_PASSES: u32 = 16;
+
+/// A restitution pass that changes no point's normal velocity by more than this (m/s) ends
+/// the passes: the bounces hold for every contact at once, to a millimetre a second.
+pub const RESTITUTION_TOLERANCE: f32 = 1e-3;
+
+/// Whether a restitution impulse keeps the passes going: it changed its point's normal
+/// velocity by more than [`RESTITUTION_TOLERANCE`] (`|Δλ| / m > tol`, written without the
+/// division: an effective mass of 0 means no body responds), and the point's rebound
+/// `e·|vn|` is faster than the restitution threshold. Slower rebounds still get every pass
+/// that runs, but do not ask for more: in a dense, churning pile (`spinner`, restitution
+/// 0.1) thousands of slow rebounds still move after 16 passes, each pass costing a tenth of
+/// the solve, for bounces Box2D's rule would not even give.
+#[inline(always)]
+pub fn bounce_moved(
+    applied: f32,
+    normal_mass: f32,
+    restitution: f32,
+    relative_velocity: f32,
+    threshold: f32,
+) -> bool {
+    applied.abs() > RESTITUTION_TOLERANCE * normal_mass
+        && -(restitution * relative_velocity) > threshold
+}
+
+/// One restitution pass, after the substeps: points that approached faster than the
+/// threshold (or at all, where it does not apply: [`threshold_applies`]) and actually pushed
+/// get their rebound velocity `-e·vn` (docs/soft_step.md 2.10). Returns how many points it
+/// moved by more than [`RESTITUTION_TOLERANCE`]; the passes repeat until none.
 pub fn apply_restitution(
     constraints: &mut [ContactConstraint],
     states: &BodyStates<'_>,
     threshold: f32,
-) {
+) -> u64 {
+    let mut moved = 0;
+    let base_threshold = threshold;
     for c in constraints {
         if c.restitution == 0.0 {
             continue;
@@ -352,8 +396,11 @@ pub fn apply_restitution(
         let m = c.masses();
         let n = c.normal;
         let before = c.together.then_some((a, b));
+        let threshold = if c.at_rest { threshold } else { 0.0 };
         for (k, p) in c.points[..c.count].iter_mut().enumerate() {
-            if p.relative_velocity > -threshold || p.total_normal_impulse == 0.0 {
+            // Strictly faster than the threshold, as the 8-lane kernel's comparison: a point
+            // that did not approach at all has nothing to bounce.
+            if p.relative_velocity >= -threshold || p.total_normal_impulse == 0.0 {
                 continue;
             }
             let (ra, rb) = (p.anchor_a, p.anchor_b);
@@ -366,8 +413,16 @@ pub fn apply_restitution(
             let vn = dot(relative_velocity(va.v, va.w, ra, vb.v, vb.w, rb), n);
             let impulse = -p.normal_mass * (vn + c.restitution * p.relative_velocity);
             let applied = accumulate_normal(p, impulse);
+            moved += u64::from(bounce_moved(
+                applied,
+                p.normal_mass,
+                c.restitution,
+                p.relative_velocity,
+                base_threshold,
+            ));
             apply(m, &mut a, &mut b, ra, rb, n * applied);
         }
         write(states, c, &a, &b);
     }
+    moved
 }

@@ -4,7 +4,8 @@
 //!    (overflow first), compute effective masses and base separations;
 //! 2. **substeps**, each: integrate velocities → warm start → solve (soft, with bias) →
 //!    integrate positions → relax (rigid, no bias, with friction) × `relax_iterations`;
-//! 3. **restitution** (skipped when no constraint bounces; `restitution_iterations` passes),
+//! 3. **restitution** (skipped when no constraint bounces; passes until one moves no point by
+//!    more than `contact_solver::RESTITUTION_TOLERANCE`, at most `restitution_iterations`),
 //!    then **store** the accumulated impulses into the contacts for the next step's warm start.
 //!
 //! Each colour's constraints touch disjoint dynamic bodies; the passes walk colours in order,
@@ -30,7 +31,7 @@ use crate::softness::Softness;
 use crate::threads::parallel::{
     BodyStates, SharedSlice, Spread, StageBoard, for_each_part, for_parts, worker_range,
 };
-use contact_solver::{ConstraintPoint, ContactConstraint};
+use contact_solver::{ConstraintPoint, ContactConstraint, RESTITUTION_PASSES};
 use graph_color::{COLOR_COUNT, GraphColoring, OVERFLOW};
 use wide::{LANES, LaneIndex, LaneInput, LaneWriter, WideConstraint, WideSurface};
 
@@ -148,6 +149,8 @@ pub struct Solver {
     slot_source: Vec<u32>,
     /// The stages of the last run of substeps (a buffer reused by the next run).
     plan: Vec<Stage>,
+    /// Restitution passes the last run of substeps took (0 when nothing bounced).
+    restitution_passes: u32,
     /// The board the last run on several workers used (its buffers reused by the next).
     board: StageBoard,
     /// For each wide constraint, its lanes in use.
@@ -208,6 +211,9 @@ pub struct SolverParams {
     /// Whether a manifold's two points well apart are solved together
     /// (`StepSettings::solve_points_together`).
     pub points_together: bool,
+    /// Whether a contact that did not push last step bounces at any approach speed
+    /// (`StepSettings::impacts_bounce`).
+    pub impacts_bounce: bool,
 }
 
 impl SolverParams {
@@ -795,9 +801,9 @@ impl Solver {
         self.color_ranges[0].len() + self.joint_ranges.first().map_or(0, |r| r.len())
     }
 
-    /// Runs the substeps, then restitution, over `spread`: this thread and its crew's
-    /// followers, or inline on this thread with no synchronisation. Returns how often a
-    /// speed cap bit, and the workers used.
+    /// Runs the substeps, then the restitution passes, over `spread`: this thread and its
+    /// crew's followers, or inline on this thread with no synchronisation. Returns how often
+    /// a speed cap bit, and the workers used.
     ///
     /// The stages (Box2D v3's `b2SolverStage` list) are laid out once as a plan; one worker
     /// walks it and the others help with each stage through a [`StageBoard`]: a stage's
@@ -826,7 +832,7 @@ impl Solver {
         let workers = spread.workers().min(cores);
         // The plan's buffer is kept from run to run: a steady scene's step allocates nothing.
         let mut plan = std::mem::take(&mut self.plan);
-        self.plan_into(&mut plan, moving.len(), step, workers);
+        self.plan_into(&mut plan, moving.len(), step, workers, false);
         let bodies = Bodies {
             motion,
             moving,
@@ -834,9 +840,38 @@ impl Solver {
         };
         let mut joints = std::mem::take(&mut self.solver_joints);
         let result = self.run_plan(&plan, &mut joints, states, &bodies, step, spread, workers);
+        self.restitution_passes = 0;
+        if self.any_restitution {
+            // Restitution passes until one moves no point by more than the tolerance, at
+            // most `RESTITUTION_PASSES`: a body that hits two others in one step is
+            // bounced off one and sent back into it by the other, and each further pass
+            // carries the bounces on, as Gauss-Seidel does, until they hold for every contact
+            // at once. Whether a pass moved anything is a sum over the constraints, each
+            // computed alike on any number of workers, so the pass count is too.
+            // With `impacts_bounce` off, exactly `restitution_iterations` passes (Box2D's 1).
+            self.plan_into(&mut plan, moving.len(), step, workers, true);
+            let most = if step.impacts_bounce {
+                step.restitution_iterations.max(RESTITUTION_PASSES)
+            } else {
+                step.restitution_iterations.max(1)
+            };
+            for _ in 0..most {
+                let (moved, _) =
+                    self.run_plan(&plan, &mut joints, states, &bodies, step, spread, workers);
+                self.restitution_passes += 1;
+                if moved == 0 && step.impacts_bounce {
+                    break;
+                }
+            }
+        }
         self.solver_joints = joints;
         self.plan = plan;
         result
+    }
+
+    /// Restitution passes the last [`Solver::run_substeps`] took.
+    pub fn restitution_passes(&self) -> u32 {
+        self.restitution_passes
     }
 
     /// Runs the stages of `plan` on `workers` workers; see [`Solver::run_substeps`].
@@ -919,13 +954,14 @@ impl Solver {
 
     /// The stages of one run of substeps, in order: per substep, integrate velocities, warm
     /// start, solve, integrate positions and relax (each colour pass as one stage per colour,
-    /// the overflow first), then the restitution passes when any constraint bounces.
+    /// the overflow first); or, with `restitution`, one restitution pass's stages.
     fn plan_into(
         &self,
         plan: &mut Vec<Stage>,
         bodies: usize,
         step: &SubstepParams,
         workers: usize,
+        restitution: bool,
     ) {
         // Blocks small enough that a worker that finishes early can take a slow one's last
         // blocks, large enough that claiming one (an atomic add) stays negligible.
@@ -971,6 +1007,10 @@ impl Solver {
                 });
             }
         };
+        if restitution {
+            colors(plan, Pass::Restitution);
+            return;
+        }
         for _ in 0..step.substeps {
             plan.push(bodies_stage(Pass::IntegrateVelocities));
             colors(plan, Pass::WarmStart);
@@ -978,11 +1018,6 @@ impl Solver {
             plan.push(bodies_stage(Pass::IntegratePositions));
             for _ in 0..step.relax_iterations {
                 colors(plan, Pass::Relax);
-            }
-        }
-        if self.any_restitution {
-            for _ in 0..step.restitution_iterations.max(1) {
-                colors(plan, Pass::Restitution);
             }
         }
     }
@@ -1031,6 +1066,7 @@ fn build_constraint(
                     [m.points[1].anchor_a, m.points[1].anchor_b],
                 ],
             ),
+        at_rest: contact_solver::threshold_applies(params.impacts_bounce, m),
         points: [ConstraintPoint::default(); 2],
     };
     let sa = &states[c.body_a as usize];
@@ -1126,8 +1162,10 @@ pub struct SubstepParams {
     pub max_linear_speed: f32,
     /// Restitution threshold.
     pub restitution_threshold: f32,
-    /// Restitution passes.
+    /// Restitution passes: exactly these, or with `impacts_bounce` until the bounces hold.
     pub restitution_iterations: u32,
+    /// `StepSettings::impacts_bounce`.
+    pub impacts_bounce: bool,
 }
 
 /// What a stage does.
@@ -1259,7 +1297,8 @@ impl Passes<'_> {
     }
 
     /// Runs `stage` over `items`, a block of its items (all of them on one thread). Returns
-    /// how often a speed cap bit.
+    /// how often a speed cap bit (position integration), or how many points a restitution
+    /// pass moved (`contact_solver::apply_restitution`); 0 for the other passes.
     #[allow(unsafe_code)]
     fn run(
         &self,
@@ -1273,7 +1312,7 @@ impl Passes<'_> {
         let inv_h = 1.0 / p.h;
         let avx = self.use_avx;
         let push = p.max_push_speed;
-        let mut caps = 0;
+        let mut count = 0;
         // The overflow, and every colour when SIMD is off, are scalar constraints.
         let scalar = stage.color == 0 || !self.use_wide;
         match stage.pass {
@@ -1314,7 +1353,8 @@ impl Passes<'_> {
                     } else {
                         f32::INFINITY
                     };
-                    caps += u64::from(integrate_position(&mut s, p.h, cap, m.rotates) && m.dynamic);
+                    count +=
+                        u64::from(integrate_position(&mut s, p.h, cap, m.rotates) && m.dynamic);
                     states.set(i, s);
                 }
             }
@@ -1325,7 +1365,10 @@ impl Passes<'_> {
                     Pass::WarmStart => contact_solver::warm_start(c, states),
                     Pass::Solve => contact_solver::solve(c, states, inv_h, true, push),
                     Pass::Relax => contact_solver::solve(c, states, inv_h, false, push),
-                    _ => contact_solver::apply_restitution(c, states, p.restitution_threshold),
+                    _ => {
+                        count +=
+                            contact_solver::apply_restitution(c, states, p.restitution_threshold)
+                    }
                 }
             }
             pass => {
@@ -1342,11 +1385,11 @@ impl Passes<'_> {
                     Pass::WarmStart => wide::warm_start(c, s, states, avx),
                     Pass::Solve => wide::solve(c, s, states, inv_h, true, push, avx),
                     Pass::Relax => wide::solve(c, s, states, inv_h, false, push, avx),
-                    _ => wide::apply_restitution(c, states, p.restitution_threshold, avx),
+                    _ => count += wide::apply_restitution(c, states, p.restitution_threshold, avx),
                 }
             }
         }
-        caps
+        count
     }
 }
 

@@ -173,7 +173,11 @@ impl<'a> LaneWriter<'a> {
                             [m.points[1].anchor_a, m.points[1].anchor_b],
                         ],
                     ),
-            ) << 6);
+            ) << 6)
+            | (u8::from(super::contact_solver::threshold_applies(
+                params.impacts_bounce,
+                m,
+            )) << 7);
         // SAFETY: `wide` is in bounds (asserted) and `l < LANES`; each write goes through a
         // raw pointer to this lane's own element of a lane array, which no other call
         // touches (contract of `shared`), and no reference to the shared constraint is made.
@@ -272,7 +276,7 @@ impl WideConstraint {
     pub fn build(&mut self, lanes: usize, states: &[BodyState], use_avx: bool) {
         debug_assert!((1..=LANES).contains(&lanes));
         self.lanes = lanes as u8;
-        let (mut dynamic_a, mut dynamic_b, mut together) = (0u8, 0u8, 0u8);
+        let (mut dynamic_a, mut dynamic_b, mut together, mut at_rest) = (0u8, 0u8, 0u8, 0u8);
         let mut any = 0u8;
         // Lanes holding each point: lane l has point k when `count[l] > k`.
         let mut has_point = [0u8; 2];
@@ -281,12 +285,14 @@ impl WideConstraint {
             dynamic_a |= (f & 1) << l;
             dynamic_b |= ((f >> 1) & 1) << l;
             together |= ((f >> 6) & 1) << l;
+            at_rest |= (f >> 7) << l;
             any |= f;
             for (k, bits) in has_point.iter_mut().enumerate() {
                 *bits |= u8::from(self.count[l] as usize > k) << l;
             }
         }
         self.together = together;
+        self.at_rest = at_rest;
         self.dynamic_a = dynamic_a;
         self.dynamic_b = dynamic_b;
         self.any_friction = any & 4 != 0;
@@ -406,7 +412,8 @@ pub struct WideConstraint {
     /// Manifold points per lane.
     count: [u8; LANES],
     /// Per lane: bit 0 body A dynamic, 1 body B dynamic, 2 friction, 3 restitution, 4
-    /// tangent speed, 5 rolling resistance, 6 points solved together (what
+    /// tangent speed, 5 rolling resistance, 6 points solved together, 7 restitution
+    /// threshold applies (what
     /// `build` folds into the masks below; lanes are written one by one, possibly by
     /// different workers, so nothing per-constraint is written while lanes are).
     flags: [u8; LANES],
@@ -428,6 +435,9 @@ pub struct WideConstraint {
     /// vector mask would cost every constraint 32 bytes more (and every world, 2 to 4% of
     /// the step, docs/accuracy/flat_landing.md).
     together: u8,
+    /// The lanes the restitution threshold applies to
+    /// (`contact_solver::threshold_applies`), one bit each, in the padding as `together`.
+    at_rest: u8,
     inv_mass_a: f32x8,
     inv_i_a: f32x8,
     inv_mass_b: f32x8,
@@ -502,6 +512,7 @@ impl WideConstraint {
         any_tangent_speed: false,
         any_rolling: false,
         together: 0,
+        at_rest: 0,
         inv_mass_a: f32x8::ZERO,
         inv_i_a: f32x8::ZERO,
         inv_mass_b: f32x8::ZERO,
@@ -947,13 +958,16 @@ fn solve_with<V: Lanes>(
     }
 }
 
-/// Restitution once per step; wide constraints with no bouncing lane are skipped whole.
+/// One restitution pass; wide constraints with no bouncing lane are skipped whole. Returns
+/// how many (constraint, point) pairs moved a lane by more than
+/// `contact_solver::RESTITUTION_TOLERANCE` (as the scalar pass, it is only ever compared
+/// with 0).
 pub fn apply_restitution(
     constraints: &mut [WideConstraint],
     states: &BodyStates<'_>,
     threshold: f32,
     use_avx: bool,
-) {
+) -> u64 {
     dispatch!(
         use_avx,
         apply_restitution_with,
@@ -968,7 +982,7 @@ fn apply_restitution_avx2(
     constraints: &mut [WideConstraint],
     states: &BodyStates<'_>,
     threshold: f32,
-) {
+) -> u64 {
     apply_restitution_with::<Avx>(constraints, states, threshold)
 }
 
@@ -977,13 +991,18 @@ fn apply_restitution_with<V: Lanes>(
     constraints: &mut [WideConstraint],
     states: &BodyStates<'_>,
     threshold: f32,
-) {
+) -> u64 {
     let neg_threshold = V::splat(-threshold);
     let zero = V::splat(0.0);
+    let tolerance = V::splat(super::contact_solver::RESTITUTION_TOLERANCE);
+    let base_threshold = V::splat(threshold);
+    let mut moved = 0;
     for c in constraints {
         if !c.any_restitution {
             continue;
         }
+        // Lanes the threshold does not apply to bounce at any approach speed.
+        let neg_threshold = lane_mask::<V>(c.at_rest).select(neg_threshold, zero);
         let mut a = gather::<V>(states, &c.body_a);
         let mut b = gather::<V>(states, &c.body_b);
         let m = c.masses();
@@ -1010,11 +1029,18 @@ fn apply_restitution_with<V: Lanes>(
             {
                 vn = lane_mask::<V>(c.together).select(before, vn);
             }
-            let impulse = -V::load(p.normal_mass) * (vn + restitution * relative);
+            let normal_mass = V::load(p.normal_mass);
+            let impulse = -normal_mass * (vn + restitution * relative);
             let applied = accumulate_normal(p, impulse, Some(active));
+            // `contact_solver::bounce_moved`, lane by lane (inactive lanes applied 0):
+            // `|Δλ| > tol·m` and `-(e·vn) > threshold`.
+            let rebound = zero - restitution * relative;
+            let still = applied.abs().gt(tolerance * normal_mass) & rebound.gt(base_threshold);
+            moved += u64::from(still.any());
             apply(m, &mut a, &mut b, &r, applied * nx, applied * ny);
         }
         scatter(states, &c.body_a, c.dynamic_a, &a);
         scatter(states, &c.body_b, c.dynamic_b, &b);
     }
+    moved
 }

@@ -54,7 +54,7 @@ pub use events::{BodyMove, Event, EventCursor, ShapeRef};
 pub use explode::ExplosionDef;
 pub use hooks::{CustomFilter, PreSolve};
 pub use query::{QueryFilter, RayHit};
-pub use settings::{StepSettings, WideThresholds};
+pub use settings::{RESTITUTION_PASSES, StepSettings, WideThresholds};
 pub use snapshot::WorldSnapshot;
 use stores::{Bodies, Contacts, Joints, Shapes, Stats, Sweeps, Workers};
 

@@ -4,6 +4,7 @@
 use glam::Vec2;
 
 use crate::error::SettingsError;
+pub use crate::solver::contact_solver::RESTITUTION_PASSES;
 
 /// The knobs of the step that trade speed for accuracy. Defaults are Box2D v3's.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -21,12 +22,29 @@ pub struct StepSettings {
     pub max_push_speed: f32,
     /// Rigid relax passes per substep after the soft solve (Box2D: 1).
     pub relax_iterations: u32,
-    /// Approach speed (m/s) below which restitution is not applied.
+    /// Approach speed (m/s) below which restitution is not applied: to every contact (Box2D's
+    /// rule), or with `impacts_bounce` only to contacts that were already pushing.
     pub restitution_threshold: f32,
+    /// Impacts bounce as their restitution says. The restitution threshold applies only to
+    /// a contact that pushed in the last step (one at rest, whose tiny bounces would be
+    /// jitter), so a contact that begins to push bounces at any approach speed (Rapier's rule
+    /// too); and the restitution passes repeat until none moves a rebound faster than the
+    /// threshold by more than 1 mm/s (see `restitution_iterations`), so the bounces hold for
+    /// every contact at once. Off (the default) is Box2D v3's restitution: the threshold for
+    /// every contact, which makes each collision slower than it inelastic (a gas of elastic
+    /// balls cools ever faster as it slows: 91% of the elastic box's energy is lost in 60 s,
+    /// 2% with this on; docs/accuracy/REPORT.md), and exactly `restitution_iterations`
+    /// passes. Not the default: in a dense pile stirred fast (`spinner`, restitution 0.1) the
+    /// passes do not settle within 16, and cost as much again as the rest of the solve.
+    #[serde(default)]
+    pub impacts_bounce: bool,
     /// Passes of the restitution stage at the end of the step. One pass (Box2D's) applies
     /// each contact's bounce once, in colour order, so a body that hits two others in one
     /// step (a wall and a ball) is sent back into the first by the second; more passes
-    /// converge to bounces that hold for every contact at once. Skipped when nothing bounces.
+    /// converge to bounces that hold for every contact at once. With `impacts_bounce` off,
+    /// exactly this many; on, as many as it takes for a pass to move no point by more than
+    /// 1 mm/s, up to this or [`RESTITUTION_PASSES`], whichever is more. Skipped when nothing
+    /// bounces.
     #[serde(default = "one")]
     pub restitution_iterations: u32,
     /// Speed cap (m/s), Box2D's `maxLinearSpeed`.
@@ -112,6 +130,7 @@ impl Default for StepSettings {
             relax_iterations: 1,
             restitution_threshold: 1.0,
             restitution_iterations: 1,
+            impacts_bounce: false,
             max_linear_speed: 400.0,
             warm_starting: true,
             contact_recycling: true,

@@ -651,6 +651,7 @@ impl World {
             static_softness: Softness::new(2.0 * hertz, s.contact_damping_ratio, h),
             warm_starting: s.warm_starting,
             points_together: s.solve_points_together,
+            impacts_bounce: s.impacts_bounce,
         };
         // The touching contacts of awake bodies in contact order, each with what the serial
         // colouring needs, so that it never reads the contacts. Serial, into the kept
@@ -734,6 +735,7 @@ impl World {
             max_linear_speed: s.max_linear_speed,
             restitution_threshold: s.restitution_threshold,
             restitution_iterations: s.restitution_iterations,
+            impacts_bounce: s.impacts_bounce,
         };
         // Below its threshold the solver runs on one worker: waking the others for every
         // stage (a hundred a step) costs more than their share of a small colour.
@@ -752,6 +754,7 @@ impl World {
         self.bodies.clear_forces();
         self.stats.speed_caps += caps;
         profile.solver_workers = workers;
+        profile.restitution_passes = self.solver.restitution_passes();
         profile.solve_ms = ms(t);
 
         let t = Instant::now();

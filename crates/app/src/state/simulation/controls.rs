@@ -167,14 +167,26 @@ fn controls(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared, out: &m
             .on_hover_text("Slower approaches do not bounce.");
             ui.end_row();
 
+            ui.label("Impacts");
+            ui.checkbox(&mut settings.impacts_bounce, "bounce as restitution says")
+                .on_hover_text(
+                    "The threshold only for contacts already pushing, so an impact bounces \
+                     however slowly it arrives and a body at rest does not jitter; the \
+                     passes repeat until every bounce holds. Off: Box2D v3's rule, every \
+                     approach slower than the threshold inelastic, and exactly the passes \
+                     below.",
+                );
+            ui.end_row();
+
             ui.label("Restitution passes");
             ui.add(egui::Slider::new(
                 &mut settings.restitution_iterations,
                 1..=32,
             ))
             .on_hover_text(
-                "More passes keep bounces elastic when a body hits two others in one step \
-                     (elastic_box: 16 passes at threshold 0 keep the energy within 2%).",
+                "Exactly this many; more keep bounces elastic when a body hits two others \
+                     in one step. With impacts bouncing, passes until the bounces hold, at most \
+                     16 (or this, if more).",
             );
             ui.end_row();
 
