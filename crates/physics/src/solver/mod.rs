@@ -4,8 +4,8 @@
 //!    (overflow first), compute effective masses and base separations;
 //! 2. **substeps**, each: integrate velocities → warm start → solve (soft, with bias) →
 //!    integrate positions → relax (rigid, no bias, with friction) × `relax_iterations`;
-//! 3. **restitution** (skipped when no constraint bounces; passes until one moves no point by
-//!    more than `contact_solver::RESTITUTION_TOLERANCE`, at most `restitution_iterations`),
+//! 3. **restitution** (skipped when no constraint bounces; `restitution_iterations` passes,
+//!    or with `impacts_bounce` passes until the bounces hold),
 //!    then **store** the accumulated impulses into the contacts for the next step's warm start.
 //!
 //! Each colour's constraints touch disjoint dynamic bodies; the passes walk colours in order,
@@ -840,26 +840,27 @@ impl Solver {
         };
         let mut joints = std::mem::take(&mut self.solver_joints);
         let result = self.run_plan(&plan, &mut joints, states, &bodies, step, spread, workers);
-        self.restitution_passes = 0;
-        if self.any_restitution {
-            // Restitution passes until one moves no point by more than the tolerance, at
-            // most `RESTITUTION_PASSES`: a body that hits two others in one step is
+        // The fixed passes ran at the plan's end (`plan_into`).
+        self.restitution_passes = if self.any_restitution && !step.impacts_bounce {
+            step.restitution_iterations.max(1)
+        } else {
+            0
+        };
+        if self.any_restitution && step.impacts_bounce {
+            // Restitution passes until one moves no fast rebound by more than the tolerance
+            // (`contact_solver::bounce_moved`), at most `RESTITUTION_PASSES` (or
+            // `restitution_iterations`, if more): a body that hits two others in one step is
             // bounced off one and sent back into it by the other, and each further pass
             // carries the bounces on, as Gauss-Seidel does, until they hold for every contact
-            // at once. Whether a pass moved anything is a sum over the constraints, each
-            // computed alike on any number of workers, so the pass count is too.
-            // With `impacts_bounce` off, exactly `restitution_iterations` passes (Box2D's 1).
+            // at once. Each pass is a run of its own, since whether another follows is known
+            // only at its end: a count summed over the constraints, each computed alike on
+            // any number of workers, so the pass count is the same on any too.
             self.plan_into(&mut plan, moving.len(), step, workers, true);
-            let most = if step.impacts_bounce {
-                step.restitution_iterations.max(RESTITUTION_PASSES)
-            } else {
-                step.restitution_iterations.max(1)
-            };
-            for _ in 0..most {
+            for _ in 0..step.restitution_iterations.max(RESTITUTION_PASSES) {
                 let (moved, _) =
                     self.run_plan(&plan, &mut joints, states, &bodies, step, spread, workers);
                 self.restitution_passes += 1;
-                if moved == 0 && step.impacts_bounce {
+                if moved == 0 {
                     break;
                 }
             }
@@ -954,7 +955,9 @@ impl Solver {
 
     /// The stages of one run of substeps, in order: per substep, integrate velocities, warm
     /// start, solve, integrate positions and relax (each colour pass as one stage per colour,
-    /// the overflow first); or, with `restitution`, one restitution pass's stages.
+    /// the overflow first), then `restitution_iterations` restitution passes when any
+    /// constraint bounces (with `impacts_bounce` off); or, with `restitution`, one
+    /// restitution pass's stages alone.
     fn plan_into(
         &self,
         plan: &mut Vec<Stage>,
@@ -1018,6 +1021,12 @@ impl Solver {
             plan.push(bodies_stage(Pass::IntegratePositions));
             for _ in 0..step.relax_iterations {
                 colors(plan, Pass::Relax);
+            }
+        }
+        // With `impacts_bounce` the passes run apart, each its own plan (`run_substeps`).
+        if self.any_restitution && !step.impacts_bounce {
+            for _ in 0..step.restitution_iterations.max(1) {
+                colors(plan, Pass::Restitution);
             }
         }
     }
@@ -1298,7 +1307,9 @@ impl Passes<'_> {
 
     /// Runs `stage` over `items`, a block of its items (all of them on one thread). Returns
     /// how often a speed cap bit (position integration), or how many points a restitution
-    /// pass moved (`contact_solver::apply_restitution`); 0 for the other passes.
+    /// pass moved with `impacts_bounce` (`contact_solver::apply_restitution`: such a pass is
+    /// a plan of its own); 0 for the other passes, and the fixed restitution passes, which
+    /// end the substeps' plan, whose sum counts the caps.
     #[allow(unsafe_code)]
     fn run(
         &self,
@@ -1366,8 +1377,9 @@ impl Passes<'_> {
                     Pass::Solve => contact_solver::solve(c, states, inv_h, true, push),
                     Pass::Relax => contact_solver::solve(c, states, inv_h, false, push),
                     _ => {
-                        count +=
-                            contact_solver::apply_restitution(c, states, p.restitution_threshold)
+                        let moved =
+                            contact_solver::apply_restitution(c, states, p.restitution_threshold);
+                        count += restitution_count(p, moved);
                     }
                 }
             }
@@ -1385,12 +1397,24 @@ impl Passes<'_> {
                     Pass::WarmStart => wide::warm_start(c, s, states, avx),
                     Pass::Solve => wide::solve(c, s, states, inv_h, true, push, avx),
                     Pass::Relax => wide::solve(c, s, states, inv_h, false, push, avx),
-                    _ => count += wide::apply_restitution(c, states, p.restitution_threshold, avx),
+                    _ => {
+                        let moved =
+                            wide::apply_restitution(c, states, p.restitution_threshold, avx);
+                        count += restitution_count(p, moved);
+                    }
                 }
             }
         }
         count
     }
+}
+
+/// What a restitution stage adds to its plan's count: the points it moved where
+/// `impacts_bounce` reads them (its passes run apart), else nothing, as the fixed passes end
+/// the substeps' plan, whose count is the speed caps.
+#[inline]
+fn restitution_count(p: &SubstepParams, moved: u64) -> u64 {
+    if p.impacts_bounce { moved } else { 0 }
 }
 
 /// Integrates one dynamic body's velocity over a substep: damping as the Padé approximation

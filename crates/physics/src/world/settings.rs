@@ -42,8 +42,9 @@ pub struct StepSettings {
     /// each contact's bounce once, in colour order, so a body that hits two others in one
     /// step (a wall and a ball) is sent back into the first by the second; more passes
     /// converge to bounces that hold for every contact at once. With `impacts_bounce` off,
-    /// exactly this many; on, as many as it takes for a pass to move no point by more than
-    /// 1 mm/s, up to this or [`RESTITUTION_PASSES`], whichever is more. Skipped when nothing
+    /// exactly this many; on, as many as it takes for a pass to move no rebound faster than
+    /// the threshold by more than 1 mm/s, up to this or [`RESTITUTION_PASSES`], whichever is
+    /// more. Skipped when nothing
     /// bounces.
     #[serde(default = "one")]
     pub restitution_iterations: u32,
