@@ -299,14 +299,18 @@ impl WideThresholds {
 impl Default for WideThresholds {
     fn default() -> Self {
         // docs/bench/thresholds.md: about half of each crossover measured on 2 cores (the
-        // lower of two runs where one size's outlier moved a crossover, rounded).
+        // lower of two runs where one size's outlier moved a crossover, rounded); prepare
+        // and finalize then halved (from 1200 and 1000), so that a pile of 1,000 bodies
+        // splits its prepare: at 2 threads its step took 0.94 of the time, its prepare 0.83
+        // (interleaved, 16 rounds); 700 bodies 1.00 (prepare 0.90), 500 the same code. Solve
+        // at 600 was slower split at 700 bodies (1.33), so it stays (docs/history.md).
         WideThresholds {
             step: 750,
             broad_phase: 120,
             narrow_phase: 630,
-            prepare: 1200,
+            prepare: 600,
             solve: 950,
-            finalize: 1000,
+            finalize: 500,
         }
     }
 }
