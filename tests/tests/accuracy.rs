@@ -489,9 +489,9 @@ fn impacts_that_bounce_keep_the_elastic_gas_within_5_percent_for_60_s() {
     );
     // The bound.
     assert!(drift < 0.05, "the gas lost {drift} of its energy in 60 s");
-    // The passes stop once the bounces hold, within the cap, and the repeats are what does
-    // it: more than one pass in most steps.
-    assert!(most <= tumble_physics::RESTITUTION_PASSES, "{most} passes");
+    // The passes stop once the bounces hold, before the cap (measured: 15 at most), and the
+    // repeats are what does it: more than one pass in most steps.
+    assert!(most < tumble_physics::RESTITUTION_PASSES, "{most} passes");
     assert!(several > 1800, "{several} steps took more than one pass");
 }
 

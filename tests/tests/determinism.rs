@@ -472,20 +472,51 @@ fn points_solved_together_are_bit_identical_on_1_to_4_real_workers() {
 
 #[test]
 fn impacts_that_bounce_are_bit_identical_on_1_to_4_real_workers() {
-    // `impacts_bounce` (issue 36): whether the passes go on is a sum over every constraint,
-    // so the pass count, and with it the state, must not depend on the workers. The elastic
-    // box (eight-lane constraints of restitution 1, passes up to 16) and spinner (restitution
-    // 0.1 everywhere, a dense pile whose passes never settle, so each step takes all 16).
-    let impacts = |s: &mut StepSettings| s.impacts_bounce = true;
+    // `impacts_bounce` (issue 36): whether the passes go on is a count summed over every
+    // constraint, so the pass count of every step, and with it the state, must not depend on
+    // the workers. The elastic box (eight-lane constraints of restitution 1) with every stage
+    // split, so that its 40 balls' passes really are shared; and spinner at the defaults
+    // (restitution 0.1 everywhere, a dense pile the paddle stirs, whose passes run long).
     let elastic = tumble_scene::builtin::build("elastic_box").expect("elastic_box");
     let spinner = tumble_scene::builtin::build("spinner").expect("spinner");
-    for (scene, steps) in [(&elastic, 300), (&spinner, 60)] {
-        let (one, _) = run_workers_tweaked(scene, steps, 1, false, impacts);
+    for (scene, steps, split) in [(&elastic, 300, true), (&spinner, 60, false)] {
+        let run = |workers: usize| {
+            let mut w = world(scene);
+            w.settings_mut().impacts_bounce = true;
+            if split {
+                w.set_wide_thresholds(WideThresholds::ALWAYS);
+            }
+            w.set_workers_beyond_cores(true);
+            w.set_thread_count(workers);
+            let (mut passes, mut shared) = (Vec::new(), 0);
+            for _ in 0..steps {
+                w.step(scene.dt, scene.substeps);
+                let p = w.profile();
+                passes.push(p.restitution_passes);
+                shared += usize::from(p.solver_workers == workers);
+            }
+            assert!(all_finite(&w), "{}: non-finite state", scene.name);
+            let label = format!("{} on {workers} workers", scene.name);
+            (Run::of(label, &w, 0, EventLog::default()), passes, shared)
+        };
+        let (one, passes, _) = run(1);
+        // The setting really ran: steps of several passes.
+        assert!(
+            passes.iter().any(|&n| n > 1),
+            "{}: passes {passes:?}",
+            scene.name
+        );
         for workers in 2..=4 {
-            let (other, _) = run_workers_tweaked(scene, steps, workers, false, impacts);
+            let (other, other_passes, shared) = run(workers);
+            assert!(
+                shared > 0,
+                "{}: never solved on {workers} workers",
+                scene.name
+            );
+            assert_eq!(passes, other_passes, "{} on {workers} workers", scene.name);
             assert_same(&one, &other);
         }
-        // And it changes the result: the setting really ran.
+        // And it changes the result.
         let (box2d_rule, _) = run_workers_with(scene, steps, 1, false);
         assert_ne!(one.hash, box2d_rule.hash, "{}", scene.name);
     }

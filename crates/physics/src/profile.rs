@@ -37,8 +37,10 @@ pub struct StepProfile {
     pub colors: usize,
     /// Constraints that fitted no colour and were solved serially.
     pub overflow: usize,
-    /// Restitution passes the step took: until one moved no point by more than 1 mm/s, at
-    /// most `StepSettings::restitution_iterations` (0 when nothing could bounce).
+    /// Restitution passes the step took (0 when nothing could bounce): exactly
+    /// `StepSettings::restitution_iterations`, or with `impacts_bounce` until one moved no
+    /// rebound faster than the threshold by more than 1 mm/s, at most 16 (or
+    /// `restitution_iterations`, if more).
     pub restitution_passes: u32,
     /// Proxies whose fat box changed in the last step.
     pub moved: usize,

@@ -350,12 +350,13 @@ pub fn threshold_applies(impacts_bounce: bool, manifold: &crate::collision::Mani
 }
 
 /// Most restitution passes `StepSettings::impacts_bounce` takes for the bounces to hold
-/// (unless `restitution_iterations` allows more): the elastic box's worst step took 14
-/// (docs/accuracy/REPORT.md).
+/// (unless `restitution_iterations` allows more): the elastic box's worst step took 15
+/// (tests/tests/accuracy.rs).
 pub const RESTITUTION_PASSES: u32 = 16;
 
-/// A restitution pass that changes no point's normal velocity by more than this (m/s) ends
-/// the passes: the bounces hold for every contact at once, to a millimetre a second.
+/// A restitution pass that changes no fast rebound's normal velocity by more than this
+/// (m/s) ends the passes ([`bounce_moved`]): those bounces hold for every contact at once,
+/// to a millimetre a second.
 pub const RESTITUTION_TOLERANCE: f32 = 1e-3;
 
 /// Whether a restitution impulse keeps the passes going: it changed its point's normal
@@ -379,8 +380,9 @@ pub fn bounce_moved(
 
 /// One restitution pass, after the substeps: points that approached faster than the
 /// threshold (or at all, where it does not apply: [`threshold_applies`]) and actually pushed
-/// get their rebound velocity `-e·vn` (docs/soft_step.md 2.10). Returns how many points it
-/// moved by more than [`RESTITUTION_TOLERANCE`]; the passes repeat until none.
+/// get their rebound velocity `-e·vn` (docs/soft_step.md 2.10). Returns how many points'
+/// impulses keep the passes going ([`bounce_moved`]); with `impacts_bounce` they repeat
+/// until none.
 pub fn apply_restitution(
     constraints: &mut [ContactConstraint],
     states: &BodyStates<'_>,

@@ -959,9 +959,9 @@ fn solve_with<V: Lanes>(
 }
 
 /// One restitution pass; wide constraints with no bouncing lane are skipped whole. Returns
-/// how many (constraint, point) pairs moved a lane by more than
-/// `contact_solver::RESTITUTION_TOLERANCE` (as the scalar pass, it is only ever compared
-/// with 0).
+/// how many (constraint, point) pairs have a lane that keeps the passes going
+/// (`contact_solver::bounce_moved`; unlike the scalar pass's count of points, it is only
+/// ever compared with 0).
 pub fn apply_restitution(
     constraints: &mut [WideConstraint],
     states: &BodyStates<'_>,

@@ -29,13 +29,14 @@ pub struct StepSettings {
     /// a contact that pushed in the last step (one at rest, whose tiny bounces would be
     /// jitter), so a contact that begins to push bounces at any approach speed (Rapier's rule
     /// too); and the restitution passes repeat until none moves a rebound faster than the
-    /// threshold by more than 1 mm/s (see `restitution_iterations`), so the bounces hold for
-    /// every contact at once. Off (the default) is Box2D v3's restitution: the threshold for
-    /// every contact, which makes each collision slower than it inelastic (a gas of elastic
-    /// balls cools ever faster as it slows: 91% of the elastic box's energy is lost in 60 s,
-    /// 2% with this on; docs/accuracy/REPORT.md), and exactly `restitution_iterations`
-    /// passes. Not the default: in a dense pile stirred fast (`spinner`, restitution 0.1) the
-    /// passes do not settle within 16, and cost as much again as the rest of the solve.
+    /// threshold by more than 1 mm/s (see `restitution_iterations`), so the bounces that
+    /// count hold for every contact at once. Off (the default) is Box2D v3's restitution:
+    /// the threshold for every contact, so that every collision slower than it is inelastic
+    /// (a gas of elastic balls cools ever faster as it slows: 91% of the elastic box's energy
+    /// is lost in 60 s, 2% with this on; docs/accuracy/REPORT.md), and exactly
+    /// `restitution_iterations` passes. Not the default: in a dense pile stirred fast
+    /// (`spinner`, restitution 0.1) the passes do not settle within 16, and cost as much
+    /// again as the rest of the solve.
     #[serde(default)]
     pub impacts_bounce: bool,
     /// Passes of the restitution stage at the end of the step. One pass (Box2D's) applies
@@ -254,9 +255,10 @@ impl StepSettings {
 /// threshold runs inline on the caller's thread without waking the crew. Results never depend
 /// on these (the tests of determinism run with [`WideThresholds::ALWAYS`] and the defaults).
 ///
-/// The defaults come from measurement (`tumble-bench thresholds`, docs/bench/thresholds.md):
-/// each is about where splitting the stage over two workers begins to pay on this project's
-/// 2-core machine.
+/// The defaults come from measurement on this project's 2-core machine: `tumble-bench
+/// thresholds` (docs/bench/thresholds.md) for where splitting each stage over two workers
+/// begins to pay, and for prepare and finalize interleaved A/Bs of whole steps on piles
+/// (`Default for WideThresholds`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct WideThresholds {
     /// Contacts (and moved proxies, which make contacts), for the step to leave the caller's

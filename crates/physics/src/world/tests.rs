@@ -386,21 +386,37 @@ fn a_kept_colouring_is_the_one_a_fresh_colouring_gives() {
 fn simd_and_scalar_solvers_agree_bit_for_bit() {
     // Both paths do the same per-lane operations in the same order, with no fused
     // multiply-add, so the whole state must match exactly, not within a tolerance.
-    let run = |simd: bool, avx: bool| {
-        let mut w = pyramid_in_rain(StepSettings::default());
+    // With `impacts_bounce` too: the lanes' threshold mask and the moved count that decides
+    // whether another restitution pass runs (each pass count is compared, step by step).
+    let run = |simd: bool, avx: bool, impacts: bool| {
+        let mut w = pyramid_in_rain(StepSettings {
+            impacts_bounce: impacts,
+            ..StepSettings::default()
+        });
         w.settings_mut().simd = simd;
         w.solver.use_avx = avx;
+        let mut passes = Vec::new();
         for _ in 0..120 {
             w.step(1.0 / 60.0, 4);
+            passes.push(w.profile().restitution_passes);
         }
         assert!(w.profile().touching > 50);
-        w.state_hash()
+        (w.state_hash(), passes)
     };
-    // The 8-lane kernels in AVX2 registers (where the CPU has AVX2; elsewhere both runs
-    // take the portable path) against the portable f32x8 kernels, and against scalar.
-    let portable = run(true, false);
-    assert_eq!(run(true, true), portable);
-    assert_eq!(run(false, false), portable);
+    for impacts in [false, true] {
+        // The 8-lane kernels in AVX2 registers (where the CPU has AVX2; elsewhere both runs
+        // take the portable path) against the portable f32x8 kernels, and against scalar.
+        let portable = run(true, false, impacts);
+        assert_eq!(run(true, true, impacts), portable);
+        assert_eq!(run(false, false, impacts), portable);
+        // With the setting, the rain's bounces took more than one pass in some step.
+        assert_eq!(
+            portable.1.iter().any(|&n| n > 1),
+            impacts,
+            "{:?}",
+            portable.1
+        );
+    }
 }
 
 /// A 16 × 16 net of discs hung from a static bar by hinges (each disc joined to the one above
