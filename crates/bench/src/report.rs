@@ -515,7 +515,10 @@ fn markdown(
         md,
         "Defaults (tumble's, which are Box2D v3's and Rapier 0.36's too): {} substeps per 1/60 s step, \
          {} relax pass per substep, contacts at {} Hz (twice that against static bodies) with \
-         damping ratio 10, push-out at most {} m/s, restitution above {} m/s of approach. The \
+         damping ratio 10, push-out at most {} m/s, restitution above {} m/s of approach; \
+         tumble also solves a manifold's two points together where they are well apart (its \
+         default, `solve_points_together`; Box2D and Rapier solve them in turn, which the \
+         flat landing's `points in turn` row shows in tumble, chart label `it`). The \
          sweep: substeps 1, 2, 4, 8, 12 and 16 at the other defaults; then, at 4 substeps, one \
          knob at a time: relax passes 2 and 4, contact hertz 15. tumble and Box2D v3.2 clamp \
          the contact hertz to an eighth of the substep rate (Rapier does not clamp), so a \

@@ -123,7 +123,7 @@ pub struct SolverDef {
     #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub time_to_sleep: Option<f32>,
     /// Solve a manifold's two points together where they are well apart, so that a body
-    /// dropped flat lands straight (default false: one after the other, as Box2D v3).
+    /// dropped flat lands straight (default true; false: one after the other, as Box2D v3).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub solve_points_together: Option<bool>,
     /// Impacts bounce as their restitution says: the restitution threshold applies only to

@@ -821,9 +821,9 @@ mod tests {
         let s = world.settings();
         assert_eq!((s.contact_hertz, s.relax_iterations), (60.0, 2));
         assert!(s.solve_points_together);
-        // Absent fields keep the defaults (Box2D's).
+        // Absent fields keep the defaults (Box2D's, but for the points solved together).
         assert_eq!((s.contact_damping_ratio, s.max_push_speed), (10.0, 3.0));
-        assert!(!World::default().settings().solve_points_together);
+        assert!(World::default().settings().solve_points_together);
         // A typo lists the allowed fields; a bad value names the field and the fix.
         expect_err(
             json(

@@ -19,8 +19,9 @@
 //! in tumble) and `sleepThreshold` the scene's `solver.sleep_threshold` (tumble's default,
 //! Box2D's, 0.05 m/s). Box2D's time to sleep is the compile-time constant `B2_TIME_TO_SLEEP`
 //! (0.5 s, tumble's default): a scene's other `solver.time_to_sleep` is not passed on.
-//! Box2D solves a manifold's points one after the other: `solver.solve_points_together` has no
-//! counterpart.
+//! Box2D solves a manifold's points one after the other: `solver.solve_points_together` (on by
+//! default in tumble) has no counterpart, so the timing compares tumble's default against
+//! Box2D's, and the cross-checks that hold tumble to Box2D's arithmetic turn it off.
 //!
 //! World: tumble's gravity, contact hertz, damping ratio, push-out speed, restitution threshold
 //! and speed cap; continuous collision as tumble's world has it (the scene's `continuous`;

@@ -1145,7 +1145,7 @@ fn flat_landing() -> Case {
             MetricDef::new("angle (rad)", "angle_rad").bound(0.01),
         ],
         extras: vec![Knobs {
-            together: true,
+            together: false,
             ..Knobs::DEFAULT
         }],
         probe: Box::new(move || {

@@ -93,10 +93,12 @@ impl Engine {
         match self {
             Engine::Tumble => true,
             // Neither peer has more than one restitution pass.
+            // Box2D solves a manifold's points in turn, whatever tumble's default; its rows
+            // are those of tumble's default of that knob.
             Engine::Box2d => {
                 k.relax == d.relax
                     && k.restitution_passes == d.restitution_passes
-                    && !k.together
+                    && k.together == d.together
                     && !k.impacts
             }
             // Rapier has no restitution threshold: a contact with restitution >= 1 always
@@ -106,7 +108,7 @@ impl Engine {
                 k.threshold == d.threshold
                     && k.restitution_passes == d.restitution_passes
                     && k.joint_hertz == d.joint_hertz
-                    && !k.together
+                    && k.together == d.together
                     && !k.impacts
             }
         }
@@ -146,8 +148,8 @@ pub struct Knobs {
     /// Stiffness of the joints' rigid rows (Hz; the scene's `solver.joint_hertz`; tumble and
     /// Box2D: clamped to a quarter of the substep rate; Rapier's joints are rigid).
     pub joint_hertz: f32,
-    /// A manifold's two points solved together (tumble only:
-    /// `StepSettings::solve_points_together`).
+    /// A manifold's two points solved together (tumble only, and its default:
+    /// `StepSettings::solve_points_together`; off is Box2D's rule, the points in turn).
     pub together: bool,
     /// Impacts bounce as restitution says: the threshold only for contacts already pushing,
     /// and passes until the bounces hold (tumble only: `StepSettings::impacts_bounce`).
@@ -155,7 +157,8 @@ pub struct Knobs {
 }
 
 impl Knobs {
-    /// tumble's defaults, which are Box2D's (and Rapier 0.36's).
+    /// tumble's defaults, which are Box2D's (and Rapier 0.36's) but for a manifold's points
+    /// solved together.
     pub const DEFAULT: Knobs = Knobs {
         substeps: 4,
         relax: 1,
@@ -164,7 +167,7 @@ impl Knobs {
         threshold: 1.0,
         restitution_passes: 1,
         joint_hertz: 60.0,
-        together: false,
+        together: true,
         impacts: false,
     };
 
@@ -191,8 +194,12 @@ impl Knobs {
         if self.joint_hertz != d.joint_hertz {
             s.push_str(&format!(", joints {} Hz", self.joint_hertz));
         }
-        if self.together {
-            s.push_str(", points together");
+        if self.together != d.together {
+            s.push_str(if self.together {
+                ", points together"
+            } else {
+                ", points in turn"
+            });
         }
         if self.impacts {
             s.push_str(", impacts bounce");
@@ -208,8 +215,8 @@ impl Knobs {
         } else {
             format!("{}/", self.substeps)
         };
-        if self.together {
-            format!("{prefix}pt")
+        if self.together != d.together {
+            format!("{prefix}{}", if self.together { "pt" } else { "it" })
         } else if self.impacts {
             format!("{prefix}ib")
         } else if self.joint_hertz != d.joint_hertz {

@@ -59,10 +59,10 @@ pub struct StepSettings {
     /// Solve the two points of a manifold from the same velocities where their rows are well
     /// apart: a body dropped flat then lands straight, where solved one after the other, as
     /// Box2D v3 does, the first point takes the whole impact and the body lands sideways and
-    /// turning (docs/accuracy/flat_landing.md). Off by default for now: off is Box2D's Soft
-    /// Step exactly, the reference the peer comparisons check tumble against (on costs about
-    /// 2% of the step, a tenth of prepare; off, nothing; measured in that document).
-    #[serde(default)]
+    /// turning (docs/accuracy/flat_landing.md). On by default; off is Box2D's Soft Step
+    /// exactly, the reference the peer cross-checks hold tumble to (on costs a few per cent
+    /// of prepare; measured in that document).
+    #[serde(default = "yes")]
     pub solve_points_together: bool,
     /// Solve each colour eight constraints at a time with SIMD. Off runs the scalar path,
     /// which gives bit-identical results; it exists to measure what SIMD buys.
@@ -136,7 +136,7 @@ impl Default for StepSettings {
             max_linear_speed: 400.0,
             warm_starting: true,
             contact_recycling: true,
-            solve_points_together: false,
+            solve_points_together: true,
             simd: true,
             enable_sleep: true,
             sleep_threshold: sleep_threshold(),
