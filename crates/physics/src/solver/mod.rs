@@ -354,7 +354,7 @@ impl Solver {
             let writer = unsafe { LaneWriter::shared(&mut self.wide, &mut self.wide_surfaces) };
             let (lane_of, first_lane_source, wide_lanes) =
                 (&self.lane_of, &self.first_lane_source, &self.wide_lanes);
-            let use_avx = self.use_avx;
+            let (use_avx, points_together) = (self.use_avx, params.points_together);
             let write_lane = |k: usize, first: usize| -> bool {
                 // The touching contacts lie sparse in the contact array where many pairs
                 // only overlap (smash: a third touch), which the hardware does not
@@ -393,7 +393,7 @@ impl Solver {
                         // SAFETY: this worker wrote every lane of `w`, just now or before.
                         #[allow(unsafe_code)]
                         unsafe {
-                            writer.complete(w, lanes, states, use_avx)
+                            writer.complete(w, lanes, states, points_together, use_avx)
                         };
                     } else {
                         let slot = straddling.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
@@ -422,7 +422,13 @@ impl Solver {
                 // SAFETY: as above; the loop that wrote its lanes has joined.
                 #[allow(unsafe_code)]
                 unsafe {
-                    writer.complete(w, self.wide_lanes[w] as usize, states, use_avx)
+                    writer.complete(
+                        w,
+                        self.wide_lanes[w] as usize,
+                        states,
+                        params.points_together,
+                        use_avx,
+                    )
                 };
             }
             any

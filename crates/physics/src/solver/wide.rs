@@ -125,18 +125,25 @@ impl<'a> LaneWriter<'a> {
     }
 
     /// Completes constraint `wide`, whose first `lanes` lanes are written:
-    /// [`WideConstraint::build`] on it.
+    /// [`WideConstraint::build`] on it (`points_together`: the world's setting).
     ///
     /// # Safety
     /// Every one of its lanes was written by a [`write`](Self::write) that happened before
     /// this call (on this thread, or joined since), and no other call reaches this
     /// constraint until the writer is dropped.
     #[inline]
-    pub unsafe fn complete(&self, wide: usize, lanes: usize, states: &[BodyState], use_avx: bool) {
+    pub unsafe fn complete(
+        &self,
+        wide: usize,
+        lanes: usize,
+        states: &[BodyState],
+        points_together: bool,
+        use_avx: bool,
+    ) {
         assert!(wide < self.len);
         // SAFETY: in bounds (asserted); exclusive by the caller's contract.
         let w = unsafe { &mut *self.ptr.add(wide) };
-        w.build(lanes, states, use_avx);
+        w.build(lanes, states, points_together, use_avx);
     }
 
     /// Writes the copied fields of one lane from its contact (masses, normal, materials,
@@ -162,18 +169,6 @@ impl<'a> LaneWriter<'a> {
             | (u8::from(c.restitution > 0.0) << 3)
             | (u8::from(c.tangent_speed != 0.0) << 4)
             | (u8::from(c.rolling_resistance > 0.0) << 5)
-            | (u8::from(
-                params.points_together
-                    && m.count == 2
-                    && super::contact_solver::points_together(
-                        m.normal,
-                        masses,
-                        [
-                            [m.points[0].anchor_a, m.points[0].anchor_b],
-                            [m.points[1].anchor_a, m.points[1].anchor_b],
-                        ],
-                    ),
-            ) << 6)
             | (u8::from(super::contact_solver::threshold_applies(
                 params.impacts_bounce,
                 m,
@@ -271,12 +266,20 @@ impl WideConstraint {
     /// 0's, with zero masses: they read, never write, and apply no impulse), folds the lanes'
     /// flags into the masks, and computes every lane's point terms at once, with the
     /// operations of `contact_solver::point_terms` in its order (the scalar constraints'
-    /// own function, so both agree bit for bit). Called while the constraint's lines are
-    /// still in the cache from its lane writes (`LaneWriter::complete`).
-    pub fn build(&mut self, lanes: usize, states: &[BodyState], use_avx: bool) {
+    /// own function, so both agree bit for bit), and with `points_together` which lanes
+    /// solve their two points together (`contact_solver::points_together`'s test, likewise).
+    /// Called while the constraint's lines are still in the cache from its lane writes
+    /// (`LaneWriter::complete`).
+    pub fn build(
+        &mut self,
+        lanes: usize,
+        states: &[BodyState],
+        points_together: bool,
+        use_avx: bool,
+    ) {
         debug_assert!((1..=LANES).contains(&lanes));
         self.lanes = lanes as u8;
-        let (mut dynamic_a, mut dynamic_b, mut together, mut at_rest) = (0u8, 0u8, 0u8, 0u8);
+        let (mut dynamic_a, mut dynamic_b, mut at_rest) = (0u8, 0u8, 0u8);
         let mut any = 0u8;
         // Lanes holding each point: lane l has point k when `count[l] > k`.
         let mut has_point = [0u8; 2];
@@ -284,14 +287,12 @@ impl WideConstraint {
             let f = self.flags[l];
             dynamic_a |= (f & 1) << l;
             dynamic_b |= ((f >> 1) & 1) << l;
-            together |= ((f >> 6) & 1) << l;
             at_rest |= (f >> 7) << l;
             any |= f;
             for (k, bits) in has_point.iter_mut().enumerate() {
                 *bits |= u8::from(self.count[l] as usize > k) << l;
             }
         }
-        self.together = together;
         self.at_rest = at_rest;
         self.dynamic_a = dynamic_a;
         self.dynamic_b = dynamic_b;
@@ -334,28 +335,51 @@ impl WideConstraint {
                 }
             }
         }
-        wide_point_terms(self, states, has_point, use_avx);
+        // Only lanes with two points can solve them together.
+        let pairs = if points_together { has_point[1] } else { 0 };
+        self.together = wide_point_terms(self, states, has_point, pairs, use_avx);
     }
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn point_terms_avx2(c: &mut WideConstraint, states: &[BodyState], has_point: [u8; 2]) {
-    point_terms_with::<Avx>(c, states, has_point)
+fn point_terms_avx2(
+    c: &mut WideConstraint,
+    states: &[BodyState],
+    has_point: [u8; 2],
+    pairs: u8,
+) -> u8 {
+    point_terms_with::<Avx>(c, states, has_point, pairs)
 }
 
 /// `contact_solver::point_terms` in eight lanes, operation for operation; the separation is
 /// read from `base_separation`, where `write_lane` left it. Lanes without the point get
-/// zeros, as the scalar build gives them.
+/// zeros, as the scalar build gives them. Returns which of the lanes `pairs` (two points
+/// each) solve them together: `contact_solver::points_together`'s test, operation for
+/// operation, from the normal masses' terms computed here anyway (where `write_lane` took
+/// it lane by lane, it was a twelfth of prepare).
 #[inline(always)]
-fn point_terms_with<V: Lanes>(c: &mut WideConstraint, states: &[BodyState], has_point: [u8; 2]) {
+fn point_terms_with<V: Lanes>(
+    c: &mut WideConstraint,
+    states: &[BodyState],
+    has_point: [u8; 2],
+    pairs: u8,
+) -> u8 {
     let a = transpose_bodies::<V>(|i| states[i], &c.body_a);
     let b = transpose_bodies::<V>(|i| states[i], &c.body_b);
     let Masses { ma, ia, mb, ib } = c.masses::<V>();
     let (nx, ny) = (V::load(c.normal_x), V::load(c.normal_y));
     let zero = V::splat(0.0);
     let one = V::splat(1.0);
-    for (p, &bits) in c.points.iter_mut().zip(&has_point) {
+    // Each point's lever terms and normal mass term, for the coupling test below.
+    let mut levers = [(zero, zero); 2];
+    let mut k_normals = [zero; 2];
+    for ((p, &bits), (lever, k_n)) in c
+        .points
+        .iter_mut()
+        .zip(&has_point)
+        .zip(levers.iter_mut().zip(&mut k_normals))
+    {
         let present: V = lane_mask(bits);
         let r = p.r.load::<V>();
         // t = right_perp(n) = (ny, −nx).
@@ -363,6 +387,7 @@ fn point_terms_with<V: Lanes>(c: &mut WideConstraint, states: &[BodyState], has_
         let rna = r.ax * ny - r.ay * nx;
         let rnb = r.bx * ny - r.by * nx;
         let k_normal = ma + mb + ia * rna * rna + ib * rnb * rnb;
+        (*lever, *k_n) = ((rna, rnb), k_normal);
         let rta = r.ax * ty - r.ay * tx;
         let rtb = r.bx * ty - r.by * tx;
         let k_tangent = ma + mb + ia * rta * rta + ib * rtb * rtb;
@@ -380,6 +405,19 @@ fn point_terms_with<V: Lanes>(c: &mut WideConstraint, states: &[BodyState], has_
         p.relative_velocity = present.select(relative_velocity, zero).store();
         p.total_normal_impulse = zero.store();
     }
+    if pairs == 0 {
+        return 0;
+    }
+    // k12² · 4 ≤ k11 · k22, as `points_together` computes it.
+    let [(c1a, c1b), (c2a, c2b)] = levers;
+    let k12 = ma + mb + ia * c1a * c2a + ib * c1b * c2b;
+    let coupling = (V::splat(4.0) * k12 * k12).store();
+    let product = (k_normals[0] * k_normals[1]).store();
+    let mut together = 0u8;
+    for l in 0..LANES {
+        together |= u8::from(coupling.as_array()[l] <= product.as_array()[l]) << l;
+    }
+    together & pairs
 }
 /// One contact point in eight lanes.
 #[derive(Clone, Copy, Debug)]
@@ -756,13 +794,14 @@ fn wide_point_terms(
     c: &mut WideConstraint,
     states: &[BodyState],
     has_point: [u8; 2],
+    pairs: u8,
     use_avx: bool,
-) {
+) -> u8 {
     dispatch!(
         use_avx,
         point_terms_with,
         point_terms_avx2,
-        (c, states, has_point)
+        (c, states, has_point, pairs)
     )
 }
 
