@@ -450,8 +450,8 @@ pub struct WideConstraint {
     /// Manifold points per lane.
     count: [u8; LANES],
     /// Per lane: bit 0 body A dynamic, 1 body B dynamic, 2 friction, 3 restitution, 4
-    /// tangent speed, 5 rolling resistance, 6 points solved together, 7 restitution
-    /// threshold applies (what
+    /// tangent speed, 5 rolling resistance, 7 restitution threshold applies (bit 6 is free:
+    /// whether the points are solved together is `build`'s to decide) (what
     /// `build` folds into the masks below; lanes are written one by one, possibly by
     /// different workers, so nothing per-constraint is written while lanes are).
     flags: [u8; LANES],
