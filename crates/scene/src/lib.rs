@@ -815,12 +815,12 @@ mod tests {
         use tumble_physics::{Limits, World};
         let text = r#"{"bodies": [], "substeps": 8,
             "solver": {"contact_hertz": 60, "relax_iterations": 2, "joint_hertz": 50,
-                       "solve_points_together": true}}"#;
+                       "solve_points_together": false}}"#;
         let scene = json(text, "stiff.json").unwrap_or_else(|e| panic!("{e}"));
         let world = World::from_scene(&scene, &Limits::default()).unwrap();
         let s = world.settings();
         assert_eq!((s.contact_hertz, s.relax_iterations), (60.0, 2));
-        assert!(s.solve_points_together);
+        assert!(!s.solve_points_together);
         // Absent fields keep the defaults (Box2D's, but for the points solved together).
         assert_eq!((s.contact_damping_ratio, s.max_push_speed), (10.0, 3.0));
         assert!(World::default().settings().solve_points_together);

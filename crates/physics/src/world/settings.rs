@@ -6,7 +6,8 @@ use glam::Vec2;
 use crate::error::SettingsError;
 pub use crate::solver::contact_solver::RESTITUTION_PASSES;
 
-/// The knobs of the step that trade speed for accuracy. Defaults are Box2D v3's.
+/// The knobs of the step that trade speed for accuracy. Defaults are Box2D v3's, but for a
+/// manifold's two points, solved together (`solve_points_together`).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct StepSettings {
     /// Gravity (m/s²).

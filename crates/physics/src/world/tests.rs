@@ -388,9 +388,13 @@ fn simd_and_scalar_solvers_agree_bit_for_bit() {
     // multiply-add, so the whole state must match exactly, not within a tolerance.
     // With `impacts_bounce` too: the lanes' threshold mask and the moved count that decides
     // whether another restitution pass runs (each pass count is compared, step by step).
-    let run = |simd: bool, avx: bool, impacts: bool| {
+    // And with a manifold's points solved in turn (Box2D's rule) as well as together (the
+    // default): the lanes' `together` mask is decided by the eight-lane build, the scalar
+    // constraints' flag by `contact_solver::points_together`.
+    let run = |simd: bool, avx: bool, impacts: bool, together: bool| {
         let mut w = pyramid_in_rain(StepSettings {
             impacts_bounce: impacts,
+            solve_points_together: together,
             ..StepSettings::default()
         });
         w.settings_mut().simd = simd;
@@ -403,12 +407,13 @@ fn simd_and_scalar_solvers_agree_bit_for_bit() {
         assert!(w.profile().touching > 50);
         (w.state_hash(), passes)
     };
-    for impacts in [false, true] {
+    let mut hashes = Vec::new();
+    for (impacts, together) in [(false, true), (true, true), (false, false), (true, false)] {
         // The 8-lane kernels in AVX2 registers (where the CPU has AVX2; elsewhere both runs
         // take the portable path) against the portable f32x8 kernels, and against scalar.
-        let portable = run(true, false, impacts);
-        assert_eq!(run(true, true, impacts), portable);
-        assert_eq!(run(false, false, impacts), portable);
+        let portable = run(true, false, impacts, together);
+        assert_eq!(run(true, true, impacts, together), portable);
+        assert_eq!(run(false, false, impacts, together), portable);
         // With the setting, the rain's bounces took more than one pass in some step.
         assert_eq!(
             portable.1.iter().any(|&n| n > 1),
@@ -416,7 +421,12 @@ fn simd_and_scalar_solvers_agree_bit_for_bit() {
             "{:?}",
             portable.1
         );
+        hashes.push(portable.0);
     }
+    // Each setting changed the result: every run really took its path.
+    hashes.sort_unstable();
+    hashes.dedup();
+    assert_eq!(hashes.len(), 4);
 }
 
 /// A 16 × 16 net of discs hung from a static bar by hinges (each disc joined to the one above
