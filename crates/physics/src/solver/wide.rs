@@ -356,8 +356,9 @@ fn point_terms_avx2(
 /// read from `base_separation`, where `write_lane` left it. Lanes without the point get
 /// zeros, as the scalar build gives them. Returns which of the lanes `pairs` (two points
 /// each) solve them together: `contact_solver::points_together`'s test, operation for
-/// operation, from the normal masses' terms computed here anyway (where `write_lane` took
-/// it lane by lane, it was a twelfth of prepare).
+/// operation, from the normal masses' terms computed here anyway (taken lane by lane in
+/// `write_lane` it measured the same, once both builds' functions were aligned:
+/// docs/history.md, "Every function on a cache line").
 #[inline(always)]
 fn point_terms_with<V: Lanes>(
     c: &mut WideConstraint,
