@@ -362,10 +362,10 @@ pub const RESTITUTION_TOLERANCE: f32 = 1e-3;
 /// Whether a restitution impulse keeps the passes going: it changed its point's normal
 /// velocity by more than [`RESTITUTION_TOLERANCE`] (`|Δλ| / m > tol`, written without the
 /// division: an effective mass of 0 means no body responds), and the point's rebound
-/// `e·|vn|` is faster than the restitution threshold. Slower rebounds still get every pass
-/// that runs, but do not ask for more: in a dense, churning pile (`spinner`, restitution
-/// 0.1) thousands of slow rebounds still move after 16 passes, each pass costing a tenth of
-/// the solve, for bounces Box2D's rule would not even give.
+/// `e·|vn|` is faster than the restitution threshold. Slower rebounds are solved again when
+/// a fast one moves their bodies, but do not ask for another pass: in a dense, churning pile
+/// (`spinner`, restitution 0.1) thousands of slow rebounds still move after 16 passes, each
+/// pass costing a tenth of the solve, for bounces Box2D's rule would not even give.
 #[inline(always)]
 pub fn bounce_moved(
     applied: f32,
@@ -378,6 +378,74 @@ pub fn bounce_moved(
         && -(restitution * relative_velocity) > threshold
 }
 
+/// The repeated restitution passes of `impacts_bounce` stop once they have visited (a wide
+/// constraint counts once) this many times as many constraints as have a point to bounce,
+/// the first pass's visits included...
+pub const BOUNCE_VISITS_PER_LISTED: u64 = 2;
+/// ...or this many, if more: a small world's passes run until the bounces hold (the elastic
+/// box's 40 balls list one or two constraints a step and visit at most 4 in a pass).
+pub const BOUNCE_VISITS_MIN: u64 = 1024;
+
+/// What the repeated restitution passes of `impacts_bounce` keep beside the velocities: for
+/// each body, the last pass (numbered on from step to step) in which a fast rebound moved it
+/// ([`bounce_moved`]). After a step's first pass, a contact is solved again only if a body
+/// of it was moved in the pass before or earlier in this one: the others' bodies are as
+/// they left them, up to slow rebounds, which do not ask for another pass either. A dense,
+/// churning pile (`spinner`) has a third of its constraints bouncing, a few hundred of them
+/// visited again after the first pass.
+pub struct BounceMarks<'a> {
+    /// Each body's last pass moved, by slot.
+    pub moved_in: crate::threads::parallel::BodyMarks<'a>,
+    /// This pass's number.
+    pub pass: u32,
+    /// Whether it is the step's first pass (every constraint with a point to bounce is
+    /// solved).
+    pub first: bool,
+}
+
+impl BounceMarks<'_> {
+    /// The lanes of a constraint solved in this pass (bit l for lane l), from its bodies as
+    /// [`WideConstraint::lane_bodies`](super::wide::WideConstraint::lane_bodies) lists them:
+    /// those with a body moved in the pass before or earlier in this one. Lane by lane, so
+    /// that the eight-lane and the scalar constraints solve the same contacts.
+    #[inline(always)]
+    pub fn visit_lanes(&self, bodies: &[u32; 2 * super::wide::LANES]) -> u8 {
+        if self.first {
+            return u8::MAX;
+        }
+        let recent = |b: u32| self.moved_in.get(b as usize) + 1 >= self.pass;
+        let (a, b) = bodies.split_at(super::wide::LANES);
+        a.iter().zip(b).enumerate().fold(0, |bits, (l, (&a, &b))| {
+            bits | (u8::from(recent(a) || recent(b)) << l)
+        })
+    }
+
+    /// Marks a dynamic body as moved in this pass.
+    #[inline(always)]
+    pub fn mark(&self, body: usize) {
+        self.moved_in.set(body, self.pass);
+    }
+}
+
+/// Whether a point gets a restitution impulse: it approached strictly faster than
+/// `threshold` (0 where the threshold does not apply), as the 8-lane kernel's comparison
+/// (a point that did not approach at all has nothing to bounce), and it pushed. It depends
+/// on the constraint alone, so it is the same in every restitution pass.
+#[inline(always)]
+fn point_bounces(p: &ConstraintPoint, threshold: f32) -> bool {
+    p.relative_velocity < -threshold && p.total_normal_impulse != 0.0
+}
+
+/// Whether any point of `c` gets a restitution impulse ([`apply_restitution`] passes over
+/// the others without reading their bodies).
+pub fn may_bounce(c: &ContactConstraint, threshold: f32) -> bool {
+    let threshold = if c.at_rest { threshold } else { 0.0 };
+    c.restitution != 0.0
+        && c.points[..c.count]
+            .iter()
+            .any(|p| point_bounces(p, threshold))
+}
+
 /// One restitution pass, after the substeps: points that approached faster than the
 /// threshold (or at all, where it does not apply: [`threshold_applies`]) and actually pushed
 /// get their rebound velocity `-e·vn` (docs/soft_step.md 2.10). Returns how many points'
@@ -387,22 +455,24 @@ pub fn apply_restitution(
     constraints: &mut [ContactConstraint],
     states: &BodyStates<'_>,
     threshold: f32,
+    marks: Option<(&BounceMarks<'_>, u8)>,
 ) -> u64 {
     let mut moved = 0;
     let base_threshold = threshold;
     for c in constraints {
-        if c.restitution == 0.0 {
+        // A constraint with no point to bounce is passed over before its bodies are read.
+        if !may_bounce(c, threshold) {
             continue;
         }
+        let mut moved_here = false;
+        let threshold = if c.at_rest { threshold } else { 0.0 };
+        let bounces = |p: &ConstraintPoint| point_bounces(p, threshold);
         let (mut a, mut b) = read(states, c);
         let m = c.masses();
         let n = c.normal;
         let before = c.together.then_some((a, b));
-        let threshold = if c.at_rest { threshold } else { 0.0 };
         for (k, p) in c.points[..c.count].iter_mut().enumerate() {
-            // Strictly faster than the threshold, as the 8-lane kernel's comparison: a point
-            // that did not approach at all has nothing to bounce.
-            if p.relative_velocity >= -threshold || p.total_normal_impulse == 0.0 {
+            if !bounces(p) {
                 continue;
             }
             let (ra, rb) = (p.anchor_a, p.anchor_b);
@@ -415,16 +485,25 @@ pub fn apply_restitution(
             let vn = dot(relative_velocity(va.v, va.w, ra, vb.v, vb.w, rb), n);
             let impulse = -p.normal_mass * (vn + c.restitution * p.relative_velocity);
             let applied = accumulate_normal(p, impulse);
-            moved += u64::from(bounce_moved(
+            let still = bounce_moved(
                 applied,
                 p.normal_mass,
                 c.restitution,
                 p.relative_velocity,
                 base_threshold,
-            ));
+            );
+            moved += u64::from(still);
+            moved_here |= still;
             apply(m, &mut a, &mut b, ra, rb, n * applied);
         }
         write(states, c, &a, &b);
+        if moved_here && let Some((marks, _)) = marks {
+            for (body, dynamic) in [(c.body_a, c.dynamic_a), (c.body_b, c.dynamic_b)] {
+                if dynamic {
+                    marks.mark(body as usize);
+                }
+            }
+        }
     }
     moved
 }

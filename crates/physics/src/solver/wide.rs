@@ -15,6 +15,7 @@ use wide::{f32x4, f32x8};
 
 use super::ContactInput;
 use super::PointResult;
+use super::contact_solver::BounceMarks;
 #[cfg(target_arch = "x86_64")]
 use super::lanes::Avx;
 use super::lanes::Lanes;
@@ -998,7 +999,9 @@ fn solve_with<V: Lanes>(
     }
 }
 
-/// One restitution pass; wide constraints with no bouncing lane are skipped whole. Returns
+/// One restitution pass; wide constraints with no bouncing lane are skipped whole. With
+/// `marks` (`impacts_bounce`'s repeated passes), only the lanes its mask lets through are
+/// solved, and the bodies a fast rebound moved are marked. Returns
 /// how many (constraint, point) pairs have a lane that keeps the passes going
 /// (`contact_solver::bounce_moved`; unlike the scalar pass's count of points, it is only
 /// ever compared with 0).
@@ -1006,13 +1009,14 @@ pub fn apply_restitution(
     constraints: &mut [WideConstraint],
     states: &BodyStates<'_>,
     threshold: f32,
+    marks: Option<(&BounceMarks<'_>, u8)>,
     use_avx: bool,
 ) -> u64 {
     dispatch!(
         use_avx,
         apply_restitution_with,
         apply_restitution_avx2,
-        (constraints, states, threshold)
+        (constraints, states, threshold, marks)
     )
 }
 
@@ -1022,8 +1026,52 @@ fn apply_restitution_avx2(
     constraints: &mut [WideConstraint],
     states: &BodyStates<'_>,
     threshold: f32,
+    marks: Option<(&BounceMarks<'_>, u8)>,
 ) -> u64 {
-    apply_restitution_with::<Avx>(constraints, states, threshold)
+    apply_restitution_with::<Avx>(constraints, states, threshold, marks)
+}
+
+impl WideConstraint {
+    /// The bodies of the lanes in use, `a` then `b` (the unused lanes repeat lane 0's).
+    pub fn lane_bodies(&self) -> [u32; 2 * LANES] {
+        let mut bodies = [0; 2 * LANES];
+        for l in 0..LANES {
+            let k = if l < self.lanes as usize { l } else { 0 };
+            bodies[l] = self.body_a[k];
+            bodies[LANES + l] = self.body_b[k];
+        }
+        bodies
+    }
+}
+
+/// A lane mask's lanes as bits (bit l set where lane l is).
+#[inline(always)]
+fn mask_bits<V: Lanes>(mask: V) -> u8 {
+    let lanes: [f32; LANES] = mask.store().to_array();
+    (0..LANES).fold(0, |bits, l| bits | (u8::from(lanes[l].to_bits() != 0) << l))
+}
+
+/// Each point's lanes that get a restitution impulse: they approached faster than the
+/// threshold (at any speed in lanes it does not apply to,
+/// `contact_solver::threshold_applies`) and pushed. It depends on the constraint alone, so it
+/// is the same in every restitution pass.
+#[inline(always)]
+fn bounce_lanes<V: Lanes>(c: &WideConstraint, threshold: f32) -> [V; 2] {
+    let zero = V::splat(0.0);
+    let neg_threshold = lane_mask::<V>(c.at_rest).select(V::splat(-threshold), zero);
+    let restitution = V::load(c.restitution);
+    c.points.each_ref().map(|p| {
+        neg_threshold.gt(V::load(p.relative_velocity))
+            & V::load(p.total_normal_impulse).gt(zero)
+            & restitution.gt(zero)
+    })
+}
+
+/// Whether any lane of `c` gets a restitution impulse ([`apply_restitution`] passes over
+/// the others without reading their bodies).
+pub fn may_bounce(c: &WideConstraint, threshold: f32) -> bool {
+    let [p0, p1] = bounce_lanes::<f32x8>(c, threshold);
+    c.any_restitution && (p0.any() || p1.any())
 }
 
 #[inline(always)]
@@ -1031,8 +1079,8 @@ fn apply_restitution_with<V: Lanes>(
     constraints: &mut [WideConstraint],
     states: &BodyStates<'_>,
     threshold: f32,
+    marks: Option<(&BounceMarks<'_>, u8)>,
 ) -> u64 {
-    let neg_threshold = V::splat(-threshold);
     let zero = V::splat(0.0);
     let tolerance = V::splat(super::contact_solver::RESTITUTION_TOLERANCE);
     let base_threshold = V::splat(threshold);
@@ -1041,23 +1089,27 @@ fn apply_restitution_with<V: Lanes>(
         if !c.any_restitution {
             continue;
         }
-        // Lanes the threshold does not apply to bounce at any approach speed.
-        let neg_threshold = lane_mask::<V>(c.at_rest).select(neg_threshold, zero);
+        // A constraint with no lane to bounce is passed over before its bodies are read.
+        let mut active = bounce_lanes::<V>(c, threshold);
+        if let Some((_, lanes)) = marks {
+            let visit = lane_mask::<V>(lanes);
+            active = active.map(|a| a & visit);
+        }
+        if !active[0].any() && !active[1].any() {
+            continue;
+        }
+        let mut moved_lanes = 0u8;
+        let restitution = V::load(c.restitution);
         let mut a = gather::<V>(states, &c.body_a);
         let mut b = gather::<V>(states, &c.body_b);
         let m = c.masses();
         let (nx, ny) = (V::load(c.normal_x), V::load(c.normal_y));
-        let restitution = V::load(c.restitution);
         let vn_before = (c.together != 0).then(|| {
             let (dvx, dvy) = relative_velocity(&a, &b, &c.points[1].r.load::<V>());
             dvx * nx + dvy * ny
         });
-        for (j, p) in c.points.iter_mut().enumerate() {
+        for (j, (p, active)) in c.points.iter_mut().zip(active).enumerate() {
             let relative = V::load(p.relative_velocity);
-            // Lanes that approached slower than the threshold, or never pushed, are left alone.
-            let active = neg_threshold.gt(relative)
-                & V::load(p.total_normal_impulse).gt(zero)
-                & restitution.gt(zero);
             if !active.any() {
                 continue;
             }
@@ -1076,11 +1128,26 @@ fn apply_restitution_with<V: Lanes>(
             // `|Δλ| > tol·m` and `-(e·vn) > threshold`.
             let rebound = zero - restitution * relative;
             let still = applied.abs().gt(tolerance * normal_mass) & rebound.gt(base_threshold);
-            moved += u64::from(still.any());
+            if still.any() {
+                moved += 1;
+                moved_lanes |= mask_bits(still);
+            }
             apply(m, &mut a, &mut b, &r, applied * nx, applied * ny);
         }
         scatter(states, &c.body_a, c.dynamic_a, &a);
         scatter(states, &c.body_b, c.dynamic_b, &b);
+        if moved_lanes != 0
+            && let Some((marks, _)) = marks
+        {
+            for l in 0..LANES {
+                if moved_lanes & c.dynamic_a & (1 << l) != 0 {
+                    marks.mark(c.body_a[l] as usize);
+                }
+                if moved_lanes & c.dynamic_b & (1 << l) != 0 {
+                    marks.mark(c.body_b[l] as usize);
+                }
+            }
+        }
     }
     moved
 }

@@ -81,6 +81,51 @@ impl<'a> BodyStates<'a> {
     }
 }
 
+/// A number per body, shared by the workers of a solver stage under [`BodyStates`]'s
+/// contract: within a stage, a dynamic body's number is read and written only by the worker
+/// that solves its constraint (the restitution passes' marks, `contact_solver::BounceMarks`).
+pub struct BodyMarks<'a> {
+    ptr: *mut u32,
+    len: usize,
+    _borrow: PhantomData<&'a mut [u32]>,
+}
+
+// SAFETY: access follows the contract of `BodyMarks::shared`.
+unsafe impl Send for BodyMarks<'_> {}
+// SAFETY: as above.
+unsafe impl Sync for BodyMarks<'_> {}
+
+impl<'a> BodyMarks<'a> {
+    /// Shared access for concurrent workers.
+    ///
+    /// # Safety
+    /// As [`BodyStates::shared`]: within one stage, a mark written by one worker is neither
+    /// read nor written by any other (only dynamic bodies' marks are written).
+    pub unsafe fn shared(marks: &'a mut [u32]) -> Self {
+        Self {
+            ptr: marks.as_mut_ptr(),
+            len: marks.len(),
+            _borrow: PhantomData,
+        }
+    }
+
+    /// Reads a body's mark.
+    #[inline(always)]
+    pub fn get(&self, i: usize) -> u32 {
+        assert!(i < self.len);
+        // SAFETY: in bounds; no concurrent writer of this body (contract of `shared`).
+        unsafe { self.ptr.add(i).read() }
+    }
+
+    /// Writes a body's mark.
+    #[inline(always)]
+    pub fn set(&self, i: usize, mark: u32) {
+        assert!(i < self.len);
+        // SAFETY: in bounds; this worker is the body's only user (contract of `shared`).
+        unsafe { self.ptr.add(i).write(mark) }
+    }
+}
+
 /// A slice whose disjoint sub-ranges workers mutate concurrently.
 pub struct SharedSlice<'a, T> {
     ptr: *mut T,

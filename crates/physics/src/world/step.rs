@@ -750,6 +750,7 @@ impl World {
             forced.then_some(&self.bodies.force_accels[..]),
             &step,
             solve_spread,
+            self.wide.solve,
         );
         self.bodies.clear_forces();
         self.stats.speed_caps += caps;
