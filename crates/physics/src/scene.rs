@@ -128,7 +128,7 @@ pub struct SolverDef {
     pub solve_points_together: Option<bool>,
     /// Impacts bounce as their restitution says: the restitution threshold applies only to
     /// contacts already pushing, and the restitution passes repeat until the bounces hold
-    /// (default false: Box2D v3's rule, the threshold for every contact and exactly
+    /// (default true; false: Box2D v3's rule, the threshold for every contact and exactly
     /// `restitution_iterations` passes).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub impacts_bounce: Option<bool>,

@@ -1387,12 +1387,13 @@ fn elastic_box(with_gravity: bool) -> Result<Case> {
              a ball that touches two others (or a wall) within one step gets its restitution \
              impulses one contact after the other, once per step (Box2D's single restitution \
              pass), so the second sends it back into the first, whose soft contact then stops \
-             it. tumble's `impacts_bounce` applies the threshold only to contacts that \
-             already pushed in the step before (at rest), so an impact bounces at any speed, \
-             and repeats the restitution pass until one moves no rebound faster than the \
-             threshold by more than 1 mm/s (at most 16 passes), so the bounces hold for every \
-             contact at once. Repeated passes at threshold 0 also converge, but a fixed \
-             number of them, and a resting contact bounces too.",
+             it. tumble's `impacts_bounce` (its default; the rows `Box2D's restitution` turn it \
+             off) applies the threshold only to contacts that already pushed in the step \
+             before (at rest), so an impact bounces at any speed, and repeats the restitution \
+             pass until one moves no rebound faster than the threshold by more than 1 mm/s \
+             (at most 16 passes), so the bounces hold for every contact at once. Repeated \
+             passes at threshold 0 under Box2D's rule also converge, but a fixed number of \
+             them, and a resting contact bounces too.",
         )
     };
     Ok(Case {
@@ -1408,15 +1409,16 @@ fn elastic_box(with_gravity: bool) -> Result<Case> {
                 .plot(),
             MetricDef::new("final change", "energy_final"),
         ],
-        // The restitution threshold (which the peers take too); 16 passes at threshold 0
-        // (one pass bounces a ball off a wall and back into it when it meets another ball in
-        // the same step); and tumble's impacts that bounce.
+        // The restitution threshold (which the peers take too); Box2D's rule in tumble
+        // (its default is impacts that bounce), alone and with 4 and 16 passes at
+        // threshold 0 (one pass bounces a ball off a wall and back into it when it meets
+        // another ball in the same step).
         extras: [
-            (0.0, 1, false),
-            (0.25, 1, false),
+            (0.0, 1, true),
+            (0.25, 1, true),
+            (1.0, 1, false),
             (0.0, 4, false),
             (0.0, 16, false),
-            (1.0, 1, true),
         ]
         .map(|(threshold, restitution_passes, impacts)| Knobs {
             threshold,

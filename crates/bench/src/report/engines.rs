@@ -99,7 +99,7 @@ impl Engine {
                 k.relax == d.relax
                     && k.restitution_passes == d.restitution_passes
                     && k.together == d.together
-                    && !k.impacts
+                    && k.impacts == d.impacts
             }
             // Rapier has no restitution threshold: a contact with restitution >= 1 always
             // bounces, others bounce on their first step of contact. Its joints' locked rows
@@ -109,7 +109,7 @@ impl Engine {
                     && k.restitution_passes == d.restitution_passes
                     && k.joint_hertz == d.joint_hertz
                     && k.together == d.together
-                    && !k.impacts
+                    && k.impacts == d.impacts
             }
         }
     }
@@ -152,7 +152,8 @@ pub struct Knobs {
     /// `StepSettings::solve_points_together`; off is Box2D's rule, the points in turn).
     pub together: bool,
     /// Impacts bounce as restitution says: the threshold only for contacts already pushing,
-    /// and passes until the bounces hold (tumble only: `StepSettings::impacts_bounce`).
+    /// and passes until the bounces hold (tumble only, and its default:
+    /// `StepSettings::impacts_bounce`; off is Box2D's rule).
     pub impacts: bool,
 }
 
@@ -168,7 +169,7 @@ impl Knobs {
         restitution_passes: 1,
         joint_hertz: 60.0,
         together: true,
-        impacts: false,
+        impacts: true,
     };
 
     /// "4 sub", "4 sub, 2 relax", "4 sub, 15 Hz", "4 sub, push 1 m/s": the substeps and
@@ -201,8 +202,12 @@ impl Knobs {
                 ", points in turn"
             });
         }
-        if self.impacts {
-            s.push_str(", impacts bounce");
+        if self.impacts != d.impacts {
+            s.push_str(if self.impacts {
+                ", impacts bounce"
+            } else {
+                ", Box2D's restitution"
+            });
         }
         s
     }
@@ -217,8 +222,8 @@ impl Knobs {
         };
         if self.together != d.together {
             format!("{prefix}{}", if self.together { "pt" } else { "it" })
-        } else if self.impacts {
-            format!("{prefix}ib")
+        } else if self.impacts != d.impacts {
+            format!("{prefix}{}", if self.impacts { "ib" } else { "b2r" })
         } else if self.joint_hertz != d.joint_hertz {
             format!("{prefix}j{}Hz", self.joint_hertz)
         } else if self.relax != d.relax {
