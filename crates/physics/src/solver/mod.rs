@@ -150,6 +150,14 @@ pub struct Solver {
     slot_source: Vec<u32>,
     /// The stages of the last run of substeps (a buffer reused by the next run).
     plan: Vec<Stage>,
+    /// What `plan` was laid out for (moving bodies, substeps, relax passes, workers,
+    /// whether anything bounces, `impacts_bounce`, restitution passes); `None` once the
+    /// colouring changed. A world whose colouring is kept steps on the same plan: laying
+    /// it out again was 8% of a 15-box column's step.
+    plan_key: Option<(usize, u32, u32, usize, bool, bool, u32)>,
+    /// The stages of one restitution pass over the bouncing constraints
+    /// ([`Solver::plan_bounces`]), a buffer kept beside `plan`.
+    bounce_plan: Vec<Stage>,
     /// Restitution passes the last run of substeps took (0 when nothing bounced).
     restitution_passes: u32,
     /// With `impacts_bounce`, the constraints (wide ones where packed) that have a point to
@@ -315,6 +323,9 @@ impl Solver {
             self.colored_for = Some(key);
         }
         self.recolored = !same;
+        if !same {
+            self.plan_key = None;
+        }
         let scalar_len = self.slot_source.len();
         // Scalar constraints: the overflow always (it comes first), every colour when SIMD is
         // off. Each slot is built in parallel and written only by its own task.
@@ -853,7 +864,19 @@ impl Solver {
         let workers = spread.workers().min(cores);
         // The plan's buffer is kept from run to run: a steady scene's step allocates nothing.
         let mut plan = std::mem::take(&mut self.plan);
-        self.plan_into(&mut plan, moving.len(), step, workers);
+        let key = (
+            moving.len(),
+            step.substeps,
+            step.relax_iterations,
+            workers,
+            self.any_restitution,
+            step.impacts_bounce,
+            step.restitution_iterations,
+        );
+        if self.plan_key != Some(key) {
+            self.plan_into(&mut plan, moving.len(), step, workers);
+            self.plan_key = Some(key);
+        }
         let bodies = Bodies {
             motion,
             moving,
@@ -901,7 +924,8 @@ impl Solver {
                 } else {
                     (Spread::INLINE, 1)
                 };
-                self.plan_bounces(&mut plan, workers);
+                let mut bounce_plan = std::mem::take(&mut self.bounce_plan);
+                self.plan_bounces(&mut bounce_plan, workers);
                 self.bounce_marks.resize(states.len(), 0);
                 let passes = step.restitution_iterations.max(RESTITUTION_PASSES);
                 // Pass numbers run on from step to step, so no mark needs clearing; a mark
@@ -918,7 +942,7 @@ impl Solver {
                     self.bounce_pass += 1;
                     let bounce = Some((self.bounce_pass, self.bounce_pass == first));
                     let (count, _) = self.run_plan(
-                        &plan,
+                        &bounce_plan,
                         &mut joints,
                         states,
                         &bodies,
@@ -934,6 +958,7 @@ impl Solver {
                         break;
                     }
                 }
+                self.bounce_plan = bounce_plan;
             }
         }
         self.solver_joints = joints;
