@@ -407,9 +407,9 @@ fn overlap_recovery_peak_speed_below_3_m_s() {
 }
 
 /// Largest |E - E0| / E0 of the kinetic energy over `steps` steps of `scene` (no gravity, so
-/// kinetic energy is all the energy; the circles are frictionless and never spin).
-/// The largest energy change over `steps`, at `threshold` and `passes` restitution passes:
-/// exactly those under Box2D's rule (`impacts_bounce` off), else at most those or 16.
+/// kinetic energy is all the energy; the circles are frictionless and never spin), at
+/// `threshold` and `passes` restitution passes: exactly those under Box2D's rule
+/// (`impacts_bounce` off), else at most those or 16, within the bounce passes' budget.
 fn energy_drift(
     scene: &SceneDef,
     threshold: f32,
@@ -512,8 +512,8 @@ fn a_dense_pile_of_impacts_stops_its_bounce_passes_at_their_budget() {
     // a third of its constraints bounce in a step, and their passes converge a few per cent
     // a pass, so every step would run all 16. The passes after the first take only the
     // lanes whose bodies a fast rebound just moved, and stop once they have visited twice
-    // the bouncing constraints (`BOUNCE_VISITS_PER_LISTED`). Measured over these 90 steps:
-    // 3.9 passes a step, the most 8 (without the budget, all 16 in 191 of its first 200
+    // as many contacts as bounce (`BOUNCE_VISITS_PER_LISTED`). Measured over these 90 steps:
+    // 7.0 passes a step, the most 16 (without the budget, all 16 in 191 of its first 200
     // steps); the bound is half the cap.
     let scene = scene("spinner");
     let mut w = build(&scene, DEFAULT);

@@ -42,7 +42,7 @@ const EXPECTED: &[(&str, u64)] = &[
     ("tumbler", 0x9d01b07eb01832b9),
     ("compounds", 0xb779608689605ab5),
     ("junkyard", 0xe8275416dda6d02e),
-    ("spinner", 0xff1edbb1bd654a71),
+    ("spinner", 0x9ed0f892290f406d),
     ("joint_grid", 0xeb92b48818b920c6),
     ("ball_and_chain", 0x99464a376e78c0d7),
     ("bridge", 0x75580eea575b07e2),

@@ -40,7 +40,7 @@ pub struct StepProfile {
     /// Restitution passes the step took (0 when nothing could bounce): exactly
     /// `StepSettings::restitution_iterations`, or with `impacts_bounce` until one moved no
     /// rebound faster than the threshold by more than 1 mm/s, at most 16 (or
-    /// `restitution_iterations`, if more).
+    /// `restitution_iterations`, if more) and within the passes' visit budget.
     pub restitution_passes: u32,
     /// Proxies whose fat box changed in the last step.
     pub moved: usize,

@@ -98,7 +98,8 @@ pub struct SolverDef {
     #[cfg_attr(feature = "schema", schemars(range(min = 0)))]
     pub restitution_threshold: Option<f32>,
     /// Restitution passes at the end of a step (1 to 64; default 1): exactly these with
-    /// `impacts_bounce` false, else until the bounces hold, at most this or 16.
+    /// `impacts_bounce` false, else until the bounces hold, at most this or 16 and within
+    /// a budget of visits (about twice the contacts that bounce).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[cfg_attr(feature = "schema", schemars(range(min = 1, max = MAX_SOLVER_PASSES)))]
     pub restitution_iterations: Option<u32>,

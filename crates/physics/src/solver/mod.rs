@@ -169,6 +169,8 @@ pub struct Solver {
     /// one's `a` and `b` repeated), streamed by the passes after the first to find the few
     /// constraints a pass moved a body of, without reading the constraints.
     bounce_bodies: Vec<[u32; 2 * wide::LANES]>,
+    /// Each listed constraint's lanes that bounce (a scalar one's: bit 0).
+    bounce_lanes: Vec<u8>,
     /// For each body, the last restitution pass a fast rebound moved it in
     /// ([`contact_solver::BounceMarks`]), and the last pass's number.
     bounce_marks: Vec<u32>,
@@ -930,13 +932,12 @@ impl Solver {
                 let passes = step.restitution_iterations.max(RESTITUTION_PASSES);
                 // Pass numbers run on from step to step, so no mark needs clearing; a mark
                 // older than this step's first pass never asks for a visit.
-                if self.bounce_pass > u32::MAX - passes - 1 {
+                if self.bounce_pass >= u32::MAX.saturating_sub(passes) {
                     self.bounce_marks.fill(0);
                     self.bounce_pass = 0;
                 }
                 let first = self.bounce_pass + 1;
-                let budget =
-                    (BOUNCE_VISITS_PER_LISTED * self.bouncing.len() as u64).max(BOUNCE_VISITS_MIN);
+                let budget = (BOUNCE_VISITS_PER_LISTED * listed as u64).max(BOUNCE_VISITS_MIN);
                 let mut visited = 0;
                 for _ in 0..passes {
                     self.bounce_pass += 1;
@@ -986,9 +987,10 @@ impl Solver {
         bounce: Option<(u32, bool)>,
     ) -> (u64, usize) {
         let bounce = bounce.map(|(pass, first)| BounceMarks {
-            // SAFETY: marks are read and written only by the restitution kernels, for the
-            // bodies of the constraint they solve, and only dynamic bodies' are written:
-            // the contract of `BodyStates::shared`, which the colouring keeps.
+            // SAFETY: marks are read (by `Passes::run`, choosing the lanes to solve) and
+            // written (by the restitution kernels) only for the bodies of the constraint
+            // being solved, and only dynamic bodies' are written: the contract of
+            // `BodyStates::shared`, which the colouring keeps.
             moved_in: unsafe { BodyMarks::shared(&mut self.bounce_marks) },
             pass,
             first,
@@ -1004,6 +1006,7 @@ impl Solver {
             chain_rows: SharedSlice::new(&mut self.chain_rows),
             bouncing: &self.bouncing,
             bounce_bodies: &self.bounce_bodies,
+            bounce_lanes: &self.bounce_lanes,
             bounce: bounce.as_ref(),
         };
         if workers == 1 {
@@ -1062,12 +1065,14 @@ impl Solver {
     }
 
     /// Lists, stage by stage, the constraints with a point that bounces
-    /// ([`contact_solver::bounces`], [`wide::may_bounce`]); returns how many contacts they
-    /// hold (a wide constraint counts its lanes).
+    /// ([`contact_solver::may_bounce`], [`wide::bounce_lane_bits`]), with the lanes that do
+    /// (a scalar constraint's: bit 0); returns how many contacts bounce, the same count
+    /// whether the colours are packed eight to a constraint or not.
     fn list_bouncing(&mut self, threshold: f32) -> usize {
         self.bouncing.clear();
         self.bounce_ranges.clear();
         self.bounce_bodies.clear();
+        self.bounce_lanes.clear();
         let mut contacts = 0;
         for (k, r) in self.color_ranges.iter().enumerate() {
             let start = self.bouncing.len();
@@ -1079,16 +1084,19 @@ impl Solver {
                         let mut bodies = [c.body_a; 2 * wide::LANES];
                         bodies[wide::LANES..].fill(c.body_b);
                         self.bounce_bodies.push(bodies);
+                        self.bounce_lanes.push(1);
+                        contacts += 1;
                     }
                 }
-                contacts += self.bouncing.len() - start;
             } else {
                 for i in self.wide_ranges[k].clone() {
                     let c = &self.wide[i];
-                    if wide::may_bounce(c, threshold) {
+                    let lanes = wide::bounce_lane_bits(c, threshold);
+                    if lanes != 0 {
                         self.bouncing.push(i as u32);
                         self.bounce_bodies.push(c.lane_bodies());
-                        contacts += self.wide_lanes[i] as usize;
+                        self.bounce_lanes.push(lanes);
+                        contacts += lanes.count_ones() as usize;
                     }
                 }
             }
@@ -1397,6 +1405,8 @@ struct Passes<'a> {
     bouncing: &'a [u32],
     /// Their bodies ([`Solver::bounce_bodies`]).
     bounce_bodies: &'a [[u32; 2 * wide::LANES]],
+    /// Their bouncing lanes ([`Solver::bounce_lanes`]).
+    bounce_lanes: &'a [u8],
     /// With `impacts_bounce`, which bodies the last passes moved.
     bounce: Option<&'a BounceMarks<'a>>,
 }
@@ -1479,10 +1489,12 @@ impl Passes<'_> {
     }
 
     /// Runs `stage` over `items`, a block of its items (all of them on one thread). Returns
-    /// how often a speed cap bit (position integration), or how many points a restitution
-    /// pass moved with `impacts_bounce` (`contact_solver::apply_restitution`: such a pass is
-    /// a plan of its own); 0 for the other passes, and the fixed restitution passes, which
-    /// end the substeps' plan, whose sum counts the caps.
+    /// how often a speed cap bit (position integration); for a [`Pass::Bounce`], how many
+    /// points (a wide constraint: point rows with a lane) it moved
+    /// (`contact_solver::bounce_moved`) in the low 32 bits and the bouncing contacts it
+    /// visited in the high 32 (such a pass is a plan of its own); 0 for the other passes,
+    /// and the fixed restitution passes, which end the substeps' plan, whose sum counts the
+    /// caps.
     #[allow(unsafe_code)]
     fn run(
         &self,
@@ -1545,8 +1557,13 @@ impl Passes<'_> {
             Pass::Bounce => {
                 let threshold = p.restitution_threshold;
                 let bodies = &self.bounce_bodies[items.clone()];
-                for (&i, bodies) in self.bouncing[items].iter().zip(bodies) {
-                    let lanes = self.bounce.map_or(u8::MAX, |m| m.visit_lanes(bodies));
+                let bouncing = &self.bounce_lanes[items.clone()];
+                let listed = self.bouncing[items].iter().zip(bodies).zip(bouncing);
+                for ((&i, bodies), &bouncing) in listed {
+                    // The bouncing lanes this pass solves (a scalar constraint's bodies fill
+                    // all eight lanes, so its mask is all or none, and its bit 0 stands for
+                    // it): counted in contacts, as the budget is, alike packed or not.
+                    let lanes = self.bounce.map_or(u8::MAX, |m| m.visit_lanes(bodies)) & bouncing;
                     if lanes == 0 {
                         continue;
                     }
@@ -1561,9 +1578,9 @@ impl Passes<'_> {
                         let c = unsafe { self.wide.range_mut(i..i + 1) };
                         wide::apply_restitution(c, states, threshold, marks, avx)
                     };
-                    // The constraints visited in the high half of the count, the moved
-                    // points in the low (`Solver::run_substeps` splits them).
-                    count += moved + (1 << 32);
+                    // The contacts visited in the high half of the count, the moved points
+                    // in the low (`Solver::run_substeps` splits them).
+                    count += moved + (u64::from(lanes.count_ones()) << 32);
                 }
             }
             pass if scalar => {

@@ -1067,11 +1067,14 @@ fn bounce_lanes<V: Lanes>(c: &WideConstraint, threshold: f32) -> [V; 2] {
     })
 }
 
-/// Whether any lane of `c` gets a restitution impulse ([`apply_restitution`] passes over
-/// the others without reading their bodies).
-pub fn may_bounce(c: &WideConstraint, threshold: f32) -> bool {
+/// The lanes of `c` that get a restitution impulse (bit l for lane l; [`apply_restitution`]
+/// passes over a constraint with none without reading its bodies).
+pub fn bounce_lane_bits(c: &WideConstraint, threshold: f32) -> u8 {
+    if !c.any_restitution {
+        return 0;
+    }
     let [p0, p1] = bounce_lanes::<f32x8>(c, threshold);
-    c.any_restitution && (p0.any() || p1.any())
+    mask_bits(p0) | mask_bits(p1)
 }
 
 #[inline(always)]

@@ -32,14 +32,15 @@ pub struct StepSettings {
     /// too); and the restitution passes repeat until none moves a rebound faster than the
     /// threshold by more than 1 mm/s (see `restitution_iterations`), so the bounces that
     /// count hold for every contact at once (after the first pass, only the contacts whose
-    /// bodies a fast rebound has just moved, and no more visits in all than twice the
-    /// bouncing constraints: a dense pile struck fast converges slowly). On by default:
+    /// bodies a fast rebound has just moved, the passes ending once they have visited about
+    /// twice as many contacts as bounce, or 1,024: a dense pile struck fast converges
+    /// slowly). On by default:
     /// off is Box2D v3's restitution, the threshold for every contact, so that every
     /// collision slower than it is inelastic (a gas of elastic balls cools ever faster as
     /// it slows: 91% of the elastic box's energy is lost in 60 s, 2% with this on;
     /// docs/accuracy/REPORT.md), and exactly `restitution_iterations` passes. What it costs:
     /// nothing where nothing bounces; in `spinner` (restitution 0.1 on 6,076 bodies, a paddle
-    /// at up to 100 m/s) 1.6% of the step at one thread (its solve 7%; docs/history.md).
+    /// at up to 100 m/s) about 3% of the step at one thread (its solve 12%; docs/history.md).
     #[serde(default = "yes")]
     pub impacts_bounce: bool,
     /// Passes of the restitution stage at the end of the step. One pass (Box2D's) applies
@@ -48,8 +49,7 @@ pub struct StepSettings {
     /// converge to bounces that hold for every contact at once. With `impacts_bounce` off,
     /// exactly this many; on, as many as it takes for a pass to move no rebound faster than
     /// the threshold by more than 1 mm/s, up to this or [`RESTITUTION_PASSES`], whichever is
-    /// more. Skipped when nothing
-    /// bounces.
+    /// more, and within the visit budget (`impacts_bounce`). Skipped when nothing bounces.
     #[serde(default = "one")]
     pub restitution_iterations: u32,
     /// Speed cap (m/s), Box2D's `maxLinearSpeed`.
