@@ -1101,6 +1101,10 @@ fn apply_restitution_with<V: Lanes>(
         if !active[0].any() && !active[1].any() {
             continue;
         }
+        // Only the lanes that bounce are written back, as the scalar pass writes only the
+        // constraints that do: another lane's velocities come back with a zero impulse
+        // added, which turns a -0.0 into a +0.0.
+        let touched = mask_bits(active[0]) | mask_bits(active[1]);
         let mut moved_lanes = 0u8;
         let restitution = V::load(c.restitution);
         let mut a = gather::<V>(states, &c.body_a);
@@ -1137,8 +1141,8 @@ fn apply_restitution_with<V: Lanes>(
             }
             apply(m, &mut a, &mut b, &r, applied * nx, applied * ny);
         }
-        scatter(states, &c.body_a, c.dynamic_a, &a);
-        scatter(states, &c.body_b, c.dynamic_b, &b);
+        scatter(states, &c.body_a, c.dynamic_a & touched, &a);
+        scatter(states, &c.body_b, c.dynamic_b & touched, &b);
         if moved_lanes != 0
             && let Some((marks, _)) = marks
         {
