@@ -921,11 +921,17 @@ impl Solver {
             // solve took 1.34 times as long as with Box2D's rule; 1.15 with the budget).
             let listed = self.list_bouncing(step.restitution_threshold);
             if listed > 0 {
-                let (spread, workers) = if spread.goes_wide(listed, bounce_min_per_worker) {
-                    (spread, workers)
-                } else {
-                    (Spread::INLINE, 1)
+                // Each pass on one worker unless the one before visited many contacts (the
+                // first: unless many are listed); a pass after the first visits only those
+                // near a rebound, and waking the crew for each of its stages costs more.
+                let spread_for = |contacts: usize| {
+                    if spread.goes_wide(contacts, bounce_min_per_worker) {
+                        (spread, workers)
+                    } else {
+                        (Spread::INLINE, 1)
+                    }
                 };
+                let (mut pass_spread, mut pass_workers) = spread_for(listed);
                 let mut bounce_plan = std::mem::take(&mut self.bounce_plan);
                 self.plan_bounces(&mut bounce_plan, workers);
                 self.bounce_marks.resize(states.len(), 0);
@@ -948,12 +954,13 @@ impl Solver {
                         states,
                         &bodies,
                         step,
-                        spread,
-                        workers,
+                        pass_spread,
+                        pass_workers,
                         bounce,
                     );
                     let (moved, visits) = (count & 0xffff_ffff, count >> 32);
                     visited += visits;
+                    (pass_spread, pass_workers) = spread_for(visits as usize);
                     self.restitution_passes += 1;
                     if moved == 0 || visited > budget {
                         break;
