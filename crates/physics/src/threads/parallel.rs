@@ -17,25 +17,33 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use crate::body::BodyState;
 use crate::threads::crew::Crew;
 
-/// Body states shared by the workers of one solver run.
+/// One value per body shared by the workers of one solver run: the body states
+/// ([`BodyStates`]), and the restitution passes' marks ([`BodyMarks`],
+/// `contact_solver::BounceMarks`).
 #[derive(Clone, Copy)]
-pub struct BodyStates<'a> {
-    ptr: *mut BodyState,
+pub struct PerBody<'a, T> {
+    ptr: *mut T,
     len: usize,
-    _borrow: PhantomData<&'a mut [BodyState]>,
+    _borrow: PhantomData<&'a mut [T]>,
 }
 
-// SAFETY: access follows the contract of `BodyStates::new`.
-unsafe impl Send for BodyStates<'_> {}
-// SAFETY: as above.
-unsafe impl Sync for BodyStates<'_> {}
+/// Body states shared by the workers of one solver run.
+pub type BodyStates<'a> = PerBody<'a, BodyState>;
 
-impl<'a> BodyStates<'a> {
+/// For each body, the last restitution pass a fast rebound moved it in.
+pub type BodyMarks<'a> = PerBody<'a, u32>;
+
+// SAFETY: access follows the contract of `PerBody::shared`.
+unsafe impl<T: Send> Send for PerBody<'_, T> {}
+// SAFETY: as above.
+unsafe impl<T: Send> Sync for PerBody<'_, T> {}
+
+impl<'a, T: Copy> PerBody<'a, T> {
     /// Exclusive access from one thread; always sound.
-    pub fn exclusive(states: &'a mut [BodyState]) -> Self {
+    pub fn exclusive(values: &'a mut [T]) -> Self {
         Self {
-            ptr: states.as_mut_ptr(),
-            len: states.len(),
+            ptr: values.as_mut_ptr(),
+            len: values.len(),
             _borrow: PhantomData,
         }
     }
@@ -43,31 +51,33 @@ impl<'a> BodyStates<'a> {
     /// Shared access for concurrent workers.
     ///
     /// # Safety
-    /// Within one stage of a [`StageBoard`], a body written by one worker (`set`,
+    /// Within one stage of a [`StageBoard`], a body's value written by one worker (`set`,
     /// `set_velocity`) is neither read nor written by any other worker. The solver ensures
     /// this by colouring (a dynamic body is in at most one constraint per colour, and only
     /// dynamic bodies are written) and by giving each block of an integration stage its own
     /// range of bodies.
-    pub unsafe fn shared(states: &'a mut [BodyState]) -> Self {
-        Self::exclusive(states)
+    pub unsafe fn shared(values: &'a mut [T]) -> Self {
+        Self::exclusive(values)
     }
 
-    /// Reads a body's state.
+    /// Reads a body's value.
     #[inline(always)]
-    pub fn get(&self, i: usize) -> BodyState {
+    pub fn get(&self, i: usize) -> T {
         assert!(i < self.len);
         // SAFETY: in bounds; no concurrent writer of this body (contract of `shared`).
         unsafe { self.ptr.add(i).read() }
     }
 
-    /// Writes a body's state.
+    /// Writes a body's value.
     #[inline(always)]
-    pub fn set(&self, i: usize, state: BodyState) {
+    pub fn set(&self, i: usize, value: T) {
         assert!(i < self.len);
         // SAFETY: in bounds; this worker is the body's only user (contract of `shared`).
-        unsafe { self.ptr.add(i).write(state) }
+        unsafe { self.ptr.add(i).write(value) }
     }
+}
 
+impl PerBody<'_, BodyState> {
     /// Writes a body's velocities only.
     #[inline(always)]
     pub fn set_velocity(&self, i: usize, v: glam::Vec2, w: f32) {
@@ -78,51 +88,6 @@ impl<'a> BodyStates<'a> {
             (*s).v = v;
             (*s).w = w;
         }
-    }
-}
-
-/// A number per body, shared by the workers of a solver stage under [`BodyStates`]'s
-/// contract: within a stage, a dynamic body's number is read and written only by the worker
-/// that solves its constraint (the restitution passes' marks, `contact_solver::BounceMarks`).
-pub struct BodyMarks<'a> {
-    ptr: *mut u32,
-    len: usize,
-    _borrow: PhantomData<&'a mut [u32]>,
-}
-
-// SAFETY: access follows the contract of `BodyMarks::shared`.
-unsafe impl Send for BodyMarks<'_> {}
-// SAFETY: as above.
-unsafe impl Sync for BodyMarks<'_> {}
-
-impl<'a> BodyMarks<'a> {
-    /// Shared access for concurrent workers.
-    ///
-    /// # Safety
-    /// As [`BodyStates::shared`]: within one stage, a mark written by one worker is neither
-    /// read nor written by any other (only dynamic bodies' marks are written).
-    pub unsafe fn shared(marks: &'a mut [u32]) -> Self {
-        Self {
-            ptr: marks.as_mut_ptr(),
-            len: marks.len(),
-            _borrow: PhantomData,
-        }
-    }
-
-    /// Reads a body's mark.
-    #[inline(always)]
-    pub fn get(&self, i: usize) -> u32 {
-        assert!(i < self.len);
-        // SAFETY: in bounds; no concurrent writer of this body (contract of `shared`).
-        unsafe { self.ptr.add(i).read() }
-    }
-
-    /// Writes a body's mark.
-    #[inline(always)]
-    pub fn set(&self, i: usize, mark: u32) {
-        assert!(i < self.len);
-        // SAFETY: in bounds; this worker is the body's only user (contract of `shared`).
-        unsafe { self.ptr.add(i).write(mark) }
     }
 }
 
