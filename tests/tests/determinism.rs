@@ -91,6 +91,7 @@ const CROSSING: WideThresholds = WideThresholds {
     prepare: 230,
     solve: 200,
     finalize: 140,
+    solve_by_payoff: false,
 };
 
 /// Runs `falling_circles` for 240 steps, 4 s: the 180 circles start 18 m to 35 m up, the

@@ -5,6 +5,7 @@
 
 pub(crate) mod crew;
 pub(crate) mod parallel;
+pub(crate) mod payoff;
 mod source;
 
 pub use source::{SpawnWorker, default_thread_count, set_thread_source};

@@ -473,6 +473,7 @@ impl World {
             workers: Workers {
                 crew: start_crew(threads),
                 threads,
+                solve_payoff: Default::default(),
             },
         }
     }
@@ -547,8 +548,9 @@ impl World {
 
     /// Lets the solver run on every thread of [`World::set_thread_count`] even where there
     /// are more threads than cores (by default it stops at the cores: workers beyond them
-    /// only wait on each other). The result is the same either way; tests of determinism use
-    /// it to run 3 and 4 real workers on a 2-core machine.
+    /// only wait on each other), and in every step that splits it, whether or not splitting
+    /// pays ([`WideThresholds::solve_by_payoff`]). The result is the same either way; tests of
+    /// determinism use it to run 3 and 4 real workers on a 2-core machine.
     pub fn set_workers_beyond_cores(&mut self, allow: bool) {
         self.solver.workers_beyond_cores = allow;
     }

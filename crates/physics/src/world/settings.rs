@@ -278,6 +278,13 @@ pub struct WideThresholds {
     pub solve: usize,
     /// Bodies, for finalize.
     pub finalize: usize,
+    /// Whether the substeps, once `solve` splits them, are also timed on one worker now and
+    /// then (two steps after the first 8, then at intervals that double or grow fourfold, up
+    /// to 256 steps), and run there while that is clearly faster on this machine, now
+    /// (`threads::payoff`; the profile's `solver_workers` says which ran). The results are
+    /// the same either way. Off in [`WideThresholds::ALWAYS`] and where
+    /// [`crate::World::set_workers_beyond_cores`] asks for every worker.
+    pub solve_by_payoff: bool,
 }
 
 impl WideThresholds {
@@ -289,6 +296,7 @@ impl WideThresholds {
         prepare: 1,
         solve: 1,
         finalize: 1,
+        solve_by_payoff: false,
     };
     /// No stage is ever split: every step runs inline.
     pub const NEVER: WideThresholds = WideThresholds {
@@ -298,6 +306,7 @@ impl WideThresholds {
         prepare: usize::MAX / 2,
         solve: usize::MAX / 2,
         finalize: usize::MAX / 2,
+        solve_by_payoff: false,
     };
 }
 
@@ -316,6 +325,7 @@ impl Default for WideThresholds {
             prepare: 600,
             solve: 950,
             finalize: 500,
+            solve_by_payoff: true,
         }
     }
 }

@@ -741,7 +741,16 @@ impl World {
         // stage (a hundred a step) costs more than their share of a small colour.
         let constraints =
             self.contacts.touching.len() + self.joints.awake.len() + self.joints.chain_list.len();
-        let solve_spread = spread.for_stage(constraints, self.wide.solve);
+        let mut solve_spread = spread.for_stage(constraints, self.wide.solve);
+        // Where splitting the substeps is timed against one worker, and lost (see
+        // `threads::payoff`), they run on one.
+        let timed = self.wide.solve_by_payoff
+            && !self.solver.workers_beyond_cores
+            && solve_spread.workers() > 1;
+        let split = !timed || self.workers.solve_payoff.split(solve_spread.workers());
+        if !split {
+            solve_spread = Spread::INLINE;
+        }
         let forced = self.bodies.refresh_force_accelerations();
         let (caps, workers) = self.solver.run_substeps(
             &mut self.bodies.states,
@@ -757,6 +766,9 @@ impl World {
         profile.solver_workers = workers;
         profile.restitution_passes = self.solver.restitution_passes();
         profile.solve_ms = ms(t);
+        if timed {
+            self.workers.solve_payoff.record(split, profile.solve_ms);
+        }
 
         let t = Instant::now();
         self.solver.store_impulses(

@@ -522,6 +522,8 @@ pub(super) struct Workers {
     /// [`super::set_thread_source`]): every step is then inline.
     pub crew: Option<Arc<Crew>>,
     pub threads: usize,
+    /// Whether the substeps pay split over the crew, as timed (`WideThresholds::solve_by_payoff`).
+    pub solve_payoff: crate::threads::payoff::Payoff,
 }
 
 #[cfg(test)]

@@ -326,6 +326,53 @@ fn thread_count_changes_between_steps_keep_the_result() {
     assert_eq!(run(false), run(true));
 }
 
+#[test]
+fn a_solve_split_only_where_it_pays_times_both_ways_and_keeps_the_bits() {
+    // A 45-row pyramid: 1,035 boxes, about 3,000 touching contacts, above the default
+    // thresholds' split of the substeps at 2 threads, where `solve_by_payoff` times them
+    // on one worker now and then: within 40 steps (a probe after the first 8) the solver
+    // runs both split and on one worker, whichever the clock prefers, and the state is the
+    // one thread's bit for bit.
+    let run = |threads: usize| {
+        let mut w = World::new(StepSettings::default());
+        assert!(w.wide_thresholds().solve_by_payoff);
+        w.create_body(
+            &BodyDef::new(ShapeDef::Box {
+                half_extents: [60.0, 0.5],
+                radius: 0.0,
+            })
+            .kind(BodyKind::Static),
+        )
+        .unwrap();
+        for row in 0..45 {
+            for col in 0..(45 - row) {
+                let x = col as f32 + row as f32 * 0.5 - 22.5;
+                let unit = ShapeDef::Box {
+                    half_extents: [0.5, 0.5],
+                    radius: 0.0,
+                };
+                w.create_body(&BodyDef::new(unit).at(x, 1.0 + row as f32))
+                    .unwrap();
+            }
+        }
+        w.set_thread_count(threads);
+        let mut workers = std::collections::BTreeSet::new();
+        for _ in 0..40 {
+            w.step(1.0 / 60.0, 4);
+            assert!(w.profile().touching > 2 * w.wide_thresholds().solve);
+            workers.insert(w.profile().solver_workers);
+        }
+        (w.state_hash(), workers)
+    };
+    let (one, alone) = run(1);
+    assert_eq!(alone, [1].into());
+    let (two, workers) = run(2);
+    if crate::default_thread_count() > 1 {
+        assert_eq!(workers, [1, 2].into(), "both ways timed");
+    }
+    assert_eq!(one, two);
+}
+
 /// An 8-row pyramid of boxes with 20 bouncy circles falling on it.
 fn pyramid_in_rain(settings: StepSettings) -> World {
     let mut w = World::new(settings);

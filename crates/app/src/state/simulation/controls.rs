@@ -288,6 +288,12 @@ fn controls(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared, out: &m
             "colours",
             format!("{} (+{} overflow)", p.colors, p.overflow),
         ),
+        // Fewer than the threads where the solve is too small to share, or where sharing it
+        // was timed and did not pay on this machine (`WideThresholds::solve_by_payoff`).
+        (
+            "solver workers",
+            format!("{} of {} threads", p.solver_workers, world.thread_count()),
+        ),
         ("fps", format!("{:.0}", shared.fps)),
         (
             "ms / step",
