@@ -35,8 +35,9 @@ const WIDE_LOSS: f64 = 1.5;
 /// of steps the other way; if those were clearly faster, it switches.
 #[derive(Clone, Debug)]
 pub struct Payoff {
-    /// The workers the choice was made for (0: none yet); another count starts afresh.
-    workers: usize,
+    /// The workers and the work the choice was made for (`(0, 0)`: none yet); others start
+    /// afresh, as their times are not comparable with these.
+    made_for: (usize, u64),
     /// Whether the stage is split (the current choice).
     split: bool,
     /// The last [`PROBE_STEPS`] times (ms) of the current choice, newest at `recent_at`.
@@ -53,14 +54,14 @@ pub struct Payoff {
 
 impl Default for Payoff {
     fn default() -> Self {
-        Payoff::fresh(0)
+        Payoff::fresh((0, 0))
     }
 }
 
 impl Payoff {
-    fn fresh(workers: usize) -> Payoff {
+    fn fresh(made_for: (usize, u64)) -> Payoff {
         Payoff {
-            workers,
+            made_for,
             split: true,
             recent: [f64::INFINITY; PROBE_STEPS],
             recent_count: 0,
@@ -73,10 +74,12 @@ impl Payoff {
     }
 
     /// Whether this step's stage is split over `workers` workers (more than one) or runs on
-    /// one; the caller times it and hands the time to [`Payoff::record`].
-    pub fn split(&mut self, workers: usize) -> bool {
-        if self.workers != workers {
-            *self = Payoff::fresh(workers);
+    /// one; the caller times it and hands the time to [`Payoff::record`]. `work` stands for
+    /// whatever sets what a step of the stage costs beside the scene (the solver's substeps
+    /// and relax passes): a different value, like a different worker count, starts afresh.
+    pub fn split(&mut self, workers: usize, work: u64) -> bool {
+        if self.made_for != (workers, work) {
+            *self = Payoff::fresh((workers, work));
         }
         if self.probe_left > 0 {
             !self.split
@@ -147,7 +150,7 @@ mod tests {
     fn run(p: &mut Payoff, steps: usize, split_ms: f64, alone_ms: f64) -> usize {
         let mut split_steps = 0;
         for _ in 0..steps {
-            let split = p.split(2);
+            let split = p.split(2, 8);
             split_steps += usize::from(split);
             p.record(split, if split { split_ms } else { alone_ms });
         }
@@ -196,7 +199,7 @@ mod tests {
         // preempted (9 ms): the other recent step still holds the split's time.
         let mut p = Payoff::default();
         for step in 0..10 {
-            let split = p.split(2);
+            let split = p.split(2, 8);
             let ms = match (split, step) {
                 (true, 7) => 9.0,
                 (true, _) => 1.0,
@@ -222,10 +225,13 @@ mod tests {
         let mut p = Payoff::default();
         run(&mut p, 50, 0.38, 0.19);
         assert!(!p.splits());
-        assert!(p.split(3), "a new worker count starts split");
+        assert!(p.split(3, 8), "a new worker count starts split");
+        run(&mut p, 50, 0.38, 0.19);
+        assert!(!p.splits());
+        assert!(p.split(2, 16), "so does new work (other substeps)");
         let mut p = Payoff::default();
         for _ in 0..20 {
-            let split = p.split(2);
+            let split = p.split(2, 8);
             p.record(split, if split { 1.0 } else { f64::NAN });
         }
         assert!(p.splits());

@@ -747,7 +747,12 @@ impl World {
         let timed = self.wide.solve_by_payoff
             && !self.solver.workers_beyond_cores
             && solve_spread.workers() > 1;
-        let split = !timed || self.workers.solve_payoff.split(solve_spread.workers());
+        let work = (u64::from(substeps) << 32) | u64::from(s.relax_iterations);
+        let split = !timed
+            || self
+                .workers
+                .solve_payoff
+                .split(solve_spread.workers(), work);
         if !split {
             solve_spread = Spread::INLINE;
         }
