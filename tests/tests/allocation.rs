@@ -51,20 +51,39 @@ fn allocations_in_100_steps(
     threads: usize,
     wide: WideThresholds,
 ) -> (usize, bool) {
+    let (allocations, inline, _) = allocations_in_steps(name, settle, 100, threads, wide);
+    (allocations, inline)
+}
+
+/// Allocations in `steps` steps of `scene` after `settle`, whether every one of those steps
+/// ran inline, and the solver worker counts they ran on.
+fn allocations_in_steps(
+    name: &str,
+    settle: u32,
+    steps: u32,
+    threads: usize,
+    wide: WideThresholds,
+) -> (usize, bool, std::collections::BTreeSet<usize>) {
     let scene = tumble_scene::builtin::build(name).expect(name);
     let mut w = world(&scene);
     w.set_thread_count(threads);
     w.set_wide_thresholds(wide);
     run(&mut w, &scene, settle);
+    // Reserved before counting: the set's nodes are the test's, not the step's.
+    let mut workers: std::collections::BTreeSet<usize> = [1, threads].into();
     let before = ALLOCATIONS.load(Ordering::Relaxed);
     let mut inline = true;
-    for _ in 0..100 {
+    let mut seen = [false; 2];
+    for _ in 0..steps {
         w.step(scene.dt, scene.substeps);
         inline &= w.profile().inline;
+        let n = w.profile().solver_workers;
+        seen[usize::from(n > 1)] = true;
     }
     let allocations = ALLOCATIONS.load(Ordering::Relaxed) - before;
+    workers.retain(|&n| seen[usize::from(n > 1)]);
     assert!(all_finite(&w), "{name}: non-finite state");
-    (allocations, inline)
+    (allocations, inline, workers)
 }
 
 #[test]
@@ -121,4 +140,20 @@ fn jointed_scenes_step_without_allocating() {
         let (allocations, _) = allocations_in_100_steps(name, 300, threads, wide);
         assert_eq!(allocations, 0, "{name}: 100 steps allocated");
     }
+}
+
+#[test]
+fn a_solve_timed_both_ways_allocates_nothing() {
+    // large_pyramid at 2 threads with the default thresholds: its ~15,000 touching contacts
+    // split the substeps, which `WideThresholds::solve_by_payoff` times on one worker now and
+    // then (at least every 258 steps), so 300 steps after it settles hold split and
+    // one-worker solves both, whichever the clock prefers, and a switch of plan between them:
+    // none of it allocates.
+    let _turn = turn();
+    let (allocations, _, workers) =
+        allocations_in_steps("large_pyramid", 300, 300, 2, WideThresholds::default());
+    if tumble_physics::default_thread_count() > 1 {
+        assert_eq!(workers, [1, 2].into(), "both ways ran");
+    }
+    assert_eq!(allocations, 0, "300 steps timed both ways allocated");
 }

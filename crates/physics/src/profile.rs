@@ -45,8 +45,9 @@ pub struct StepProfile {
     /// Proxies whose fat box changed in the last step.
     pub moved: usize,
     /// Workers that ran the substeps (1 below `WideThresholds::solve` touching contacts a
-    /// worker, or where splitting them was timed and lost, `WideThresholds::solve_by_payoff`;
-    /// never more than cores).
+    /// worker, or where splitting them was timed and lost, `WideThresholds::solve_by_payoff`,
+    /// which also runs a step or two the other way now and then to time it; never more than
+    /// cores).
     pub solver_workers: usize,
     /// The step ran inline on the caller's thread: one thread, or no stage reached its
     /// `WideThresholds` (the crew was not woken).

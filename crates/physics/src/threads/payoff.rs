@@ -38,6 +38,10 @@ pub struct Payoff {
     /// The workers and the work the choice was made for (`(0, 0)`: none yet); others start
     /// afresh, as their times are not comparable with these.
     made_for: (usize, u64),
+    /// The step of the last [`Payoff::split`]: a step that is not the next one (the stage
+    /// went untimed in between: one thread, a scene below the threshold) drops the times
+    /// and any probe under way, which were of another scene, and keeps the choice.
+    last_step: Option<u64>,
     /// Whether the stage is split (the current choice).
     split: bool,
     /// The last [`PROBE_STEPS`] times (ms) of the current choice, newest at `recent_at`.
@@ -62,6 +66,7 @@ impl Payoff {
     fn fresh(made_for: (usize, u64)) -> Payoff {
         Payoff {
             made_for,
+            last_step: None,
             split: true,
             recent: [f64::INFINITY; PROBE_STEPS],
             recent_count: 0,
@@ -77,10 +82,20 @@ impl Payoff {
     /// one; the caller times it and hands the time to [`Payoff::record`]. `work` stands for
     /// whatever sets what a step of the stage costs beside the scene (the solver's substeps
     /// and relax passes): a different value, like a different worker count, starts afresh.
-    pub fn split(&mut self, workers: usize, work: u64) -> bool {
+    /// `step` counts the world's steps.
+    pub fn split(&mut self, workers: usize, work: u64, step: u64) -> bool {
         if self.made_for != (workers, work) {
             *self = Payoff::fresh((workers, work));
         }
+        if self
+            .last_step
+            .is_some_and(|last| step != last.wrapping_add(1))
+        {
+            self.recent_count = 0;
+            self.probe_left = 0;
+            self.until_probe = self.until_probe.max(PROBE_STEPS as u32);
+        }
+        self.last_step = Some(step);
         if self.probe_left > 0 {
             !self.split
         } else {
@@ -97,12 +112,11 @@ impl Payoff {
     /// The stage took `ms` milliseconds, split or not as `split` said: a step of the current
     /// choice or of a probe.
     pub fn record(&mut self, split: bool, ms: f64) {
-        // A time that is not a time (a clock gone backwards, a NaN) decides nothing.
-        let ms = if ms.is_finite() && ms >= 0.0 {
-            ms
-        } else {
-            f64::INFINITY
-        };
+        // A time that is not a time (a clock gone backwards, a NaN) counts for nothing: a
+        // probe it fell in runs a step longer.
+        if !(ms.is_finite() && ms >= 0.0) {
+            return;
+        }
         if self.probe_left > 0 && split != self.split {
             self.probe_best = self.probe_best.min(ms);
             self.probe_left -= 1;
@@ -150,7 +164,7 @@ mod tests {
     fn run(p: &mut Payoff, steps: usize, split_ms: f64, alone_ms: f64) -> usize {
         let mut split_steps = 0;
         for _ in 0..steps {
-            let split = p.split(2, 8);
+            let split = p.split(2, 8, p.last_step.map_or(0, |s| s + 1));
             split_steps += usize::from(split);
             p.record(split, if split { split_ms } else { alone_ms });
         }
@@ -179,7 +193,8 @@ mod tests {
         let split = run(&mut p, 10, 0.38, 0.19);
         assert_eq!(split, 8);
         assert!(!p.splits());
-        // From then on, split only in probes: 2 steps after 8, 16, 32, ... on one worker.
+        // From then on, split only in probes: 2 steps after 8 and then 32 on one worker (the
+        // split lost by more than `WIDE_LOSS`).
         let split = run(&mut p, 100, 0.38, 0.19);
         assert_eq!(split, 4, "probe steps split in 100: after 8 and 32 alone");
         assert!(!p.splits());
@@ -199,7 +214,7 @@ mod tests {
         // preempted (9 ms): the other recent step still holds the split's time.
         let mut p = Payoff::default();
         for step in 0..10 {
-            let split = p.split(2, 8);
+            let split = p.split(2, 8, p.last_step.map_or(0, |s| s + 1));
             let ms = match (split, step) {
                 (true, 7) => 9.0,
                 (true, _) => 1.0,
@@ -225,15 +240,38 @@ mod tests {
         let mut p = Payoff::default();
         run(&mut p, 50, 0.38, 0.19);
         assert!(!p.splits());
-        assert!(p.split(3, 8), "a new worker count starts split");
+        assert!(p.split(3, 8, 0), "a new worker count starts split");
         run(&mut p, 50, 0.38, 0.19);
         assert!(!p.splits());
-        assert!(p.split(2, 16), "so does new work (other substeps)");
+        assert!(p.split(2, 16, 0), "so does new work (other substeps)");
         let mut p = Payoff::default();
         for _ in 0..20 {
-            let split = p.split(2, 8);
+            let split = p.split(2, 8, p.last_step.map_or(0, |s| s + 1));
             p.record(split, if split { 1.0 } else { f64::NAN });
         }
         assert!(p.splits());
+        // Bad times of the split decide nothing either: one worker's finite times do not
+        // win against them.
+        let mut p = Payoff::default();
+        for _ in 0..20 {
+            let split = p.split(2, 8, p.last_step.map_or(0, |s| s + 1));
+            p.record(split, if split { -1.0 } else { 5.0 });
+        }
+        assert!(p.splits());
+    }
+
+    #[test]
+    fn a_gap_in_the_steps_drops_the_times_and_keeps_the_choice() {
+        let mut p = Payoff::default();
+        run(&mut p, 10, 0.38, 0.19);
+        assert!(!p.splits());
+        // Untimed steps in between (one thread, say): the next probe waits for two fresh
+        // times of the choice, however fast the split was before.
+        let step = p.last_step.unwrap() + 100;
+        assert!(!p.split(2, 8, step));
+        assert_eq!(p.recent_count, 0);
+        p.record(false, 0.19);
+        assert_eq!(p.recent_count, 1);
+        assert!(!p.splits());
     }
 }

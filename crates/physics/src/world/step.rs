@@ -744,15 +744,27 @@ impl World {
         let mut solve_spread = spread.for_stage(constraints, self.wide.solve);
         // Where splitting the substeps is timed against one worker, and lost (see
         // `threads::payoff`), they run on one.
-        let timed = self.wide.solve_by_payoff
-            && !self.solver.workers_beyond_cores
-            && solve_spread.workers() > 1;
-        let work = (u64::from(substeps) << 32) | u64::from(s.relax_iterations);
+        // The workers it would run on are capped at the cores (`Solver::run_substeps`): on
+        // one core "split" and "one worker" are the same thing, and nothing is timed.
+        let solve_workers = solve_spread
+            .workers()
+            .min(crate::threads::default_thread_count());
+        let timed =
+            self.wide.solve_by_payoff && !self.solver.workers_beyond_cores && solve_workers > 1;
+        // What else sets the substeps' cost: times taken under other settings are not
+        // weighed against these.
+        let work = (u64::from(substeps) << 32)
+            | (u64::from(s.relax_iterations.min(0xffff)) << 16)
+            | (u64::from(s.restitution_iterations.min(0xff)) << 8)
+            | (u64::from(s.impacts_bounce) << 3)
+            | (u64::from(s.solve_points_together) << 2)
+            | (u64::from(self.solver.use_wide) << 1)
+            | u64::from(self.solver.use_avx);
         let split = !timed
             || self
                 .workers
                 .solve_payoff
-                .split(solve_spread.workers(), work);
+                .split(solve_workers, work, self.stats.steps);
         if !split {
             solve_spread = Spread::INLINE;
         }
