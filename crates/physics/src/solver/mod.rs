@@ -255,6 +255,9 @@ impl SolverParams {
 /// Bytes of wide constraints above which prepare prefetches each constraint before its
 /// first lane is written (see `Solver::prepare`).
 const COLD_CONSTRAINTS: usize = 4 << 20;
+/// The same where the colouring was redone this step (see `Solver::prepare`): twice a core's
+/// own cache (512 KB of L2 on the EPYC measured), a margin: no scene measured lies between.
+const RECOLORED_COLD_CONSTRAINTS: usize = 1 << 20;
 
 impl Solver {
     /// Empty buffers; AVX2 kernels on where the CPU has them.
@@ -358,8 +361,13 @@ impl Solver {
             .resize(self.wide_lanes.len(), WideConstraint::EMPTY);
         // Only a buffer well past the caches is cold at every lane's first store; below that
         // the prefetches cost more than they save (large_pyramid's 2 MB: +15% on this loop,
-        // many_pyramids' 8 MB: -21%; a 2-vCPU EPYC).
-        let cold = self.wide.len() * std::mem::size_of::<WideConstraint>() > COLD_CONSTRAINTS;
+        // many_pyramids' 8 MB: -21%; a 2-vCPU EPYC). Unless the colouring was redone: each
+        // contact's lane then moved, and a buffer well past the core's own cache is cold where
+        // it goes (spinner, recoloured every step, 2.4 MB: prepare 0.85 to 0.89 of its time
+        // without, 1 thread, interleaved; large_pyramid's 2.2 MB, coloured once and kept, took
+        // 1.07 with prefetches in every step, and takes none in its kept steps).
+        let bytes = self.wide.len() * std::mem::size_of::<WideConstraint>();
+        let cold = bytes > COLD_CONSTRAINTS || (!same && bytes > RECOLORED_COLD_CONSTRAINTS);
         self.wide_surfaces.clear();
         // Beside the constraints, and only in a world that uses them.
         if surface.is_some() {
