@@ -49,6 +49,10 @@ pub struct StepProfile {
     /// which also runs a step or two the other way now and then to time it; never more than
     /// cores).
     pub solver_workers: usize,
+    /// This step ran the substeps the other way from the choice `solve_by_payoff` holds (on
+    /// one worker where they are split, or split where they run on one), to time it: its
+    /// `solver_workers` is not the choice's.
+    pub solver_probe: bool,
     /// The step ran inline on the caller's thread: one thread, or no stage reached its
     /// `WideThresholds` (the crew was not woken).
     pub inline: bool,

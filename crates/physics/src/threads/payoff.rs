@@ -103,6 +103,12 @@ impl Payoff {
         }
     }
 
+    /// Whether the step [`Payoff::split`] was just asked about runs the other way from the
+    /// choice, to time it.
+    pub fn probing(&self) -> bool {
+        self.probe_left > 0
+    }
+
     /// Whether the stage is split between probes.
     #[cfg(test)]
     fn splits(&self) -> bool {

@@ -765,6 +765,7 @@ impl World {
                 .workers
                 .solve_payoff
                 .split(solve_workers, work, self.stats.steps);
+        let probe = timed && self.workers.solve_payoff.probing();
         if !split {
             solve_spread = Spread::INLINE;
         }
@@ -781,6 +782,7 @@ impl World {
         self.bodies.clear_forces();
         self.stats.speed_caps += caps;
         profile.solver_workers = workers;
+        profile.solver_probe = probe;
         profile.restitution_passes = self.solver.restitution_passes();
         profile.solve_ms = ms(t);
         if timed {

@@ -357,10 +357,21 @@ fn a_solve_split_only_where_it_pays_times_both_ways_and_keeps_the_bits() {
         }
         w.set_thread_count(threads);
         let mut workers = std::collections::BTreeSet::new();
+        let mut probes = 0;
         for _ in 0..40 {
             w.step(1.0 / 60.0, 4);
             assert!(w.profile().touching > 2 * w.wide_thresholds().solve);
             workers.insert(w.profile().solver_workers);
+            probes += usize::from(w.profile().solver_probe);
+        }
+        // Probes of two steps: the first after 8 steps, the next 8 steps after one that
+        // switched and 16 or 32 after one that did not, so at most four in 40 steps (each
+        // switching) and at least one; none at 1 thread.
+        assert!(probes <= 8, "{probes} probe steps");
+        if threads > 1 && crate::default_thread_count() > 1 {
+            assert!(probes >= 2, "{probes} probe steps");
+        } else {
+            assert_eq!(probes, 0);
         }
         (w.state_hash(), workers)
     };

@@ -292,7 +292,16 @@ fn controls(ui: &mut egui::Ui, st: &mut Simulation, shared: &mut Shared, out: &m
         // was timed and did not pay on this machine (`WideThresholds::solve_by_payoff`).
         (
             "solver workers",
-            format!("{} of {} threads", p.solver_workers, world.thread_count()),
+            format!(
+                "{} of {} threads{}",
+                p.solver_workers,
+                world.thread_count(),
+                if p.solver_probe {
+                    " (timing the other way)"
+                } else {
+                    ""
+                }
+            ),
         ),
         ("fps", format!("{:.0}", shared.fps)),
         (
