@@ -165,16 +165,19 @@ impl Payoff {
 mod tests {
     use super::*;
 
+    /// One step on 2 workers, the step after the last, taking `ms(split)`; whether it split.
+    fn step(p: &mut Payoff, ms: impl Fn(bool) -> f64) -> bool {
+        let split = p.split(2, 8, p.last_step.map_or(0, |s| s + 1));
+        p.record(split, ms(split));
+        split
+    }
+
     /// Runs `steps` steps against a stage that takes `split_ms` split and `alone_ms` on one
     /// worker; returns how many steps ran split.
     fn run(p: &mut Payoff, steps: usize, split_ms: f64, alone_ms: f64) -> usize {
-        let mut split_steps = 0;
-        for _ in 0..steps {
-            let split = p.split(2, 8, p.last_step.map_or(0, |s| s + 1));
-            split_steps += usize::from(split);
-            p.record(split, if split { split_ms } else { alone_ms });
-        }
-        split_steps
+        (0..steps)
+            .filter(|_| step(p, |split| if split { split_ms } else { alone_ms }))
+            .count()
     }
 
     #[test]
@@ -219,14 +222,12 @@ mod tests {
         // The split pays (1.0 against 1.6 ms), but the step before the first probe was
         // preempted (9 ms): the other recent step still holds the split's time.
         let mut p = Payoff::default();
-        for step in 0..10 {
-            let split = p.split(2, 8, p.last_step.map_or(0, |s| s + 1));
-            let ms = match (split, step) {
+        for k in 0..10 {
+            step(&mut p, |split| match (split, k) {
                 (true, 7) => 9.0,
                 (true, _) => 1.0,
                 (false, _) => 1.6,
-            };
-            p.record(split, ms);
+            });
         }
         assert!(p.splits());
     }
@@ -251,18 +252,12 @@ mod tests {
         assert!(!p.splits());
         assert!(p.split(2, 16, 0), "so does new work (other substeps)");
         let mut p = Payoff::default();
-        for _ in 0..20 {
-            let split = p.split(2, 8, p.last_step.map_or(0, |s| s + 1));
-            p.record(split, if split { 1.0 } else { f64::NAN });
-        }
+        run(&mut p, 20, 1.0, f64::NAN);
         assert!(p.splits());
         // Bad times of the split decide nothing either: one worker's finite times do not
         // win against them.
         let mut p = Payoff::default();
-        for _ in 0..20 {
-            let split = p.split(2, 8, p.last_step.map_or(0, |s| s + 1));
-            p.record(split, if split { -1.0 } else { 5.0 });
-        }
+        run(&mut p, 20, -1.0, 5.0);
         assert!(p.splits());
     }
 

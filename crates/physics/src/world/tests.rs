@@ -293,22 +293,7 @@ fn thread_count_changes_between_steps_keep_the_result() {
         w.set_workers_beyond_cores(true);
         // A 465-body pyramid is inline by default: split it anyway.
         w.set_wide_thresholds(WideThresholds::ALWAYS);
-        let ground = BodyDef::new(ShapeDef::Box {
-            half_extents: [40.0, 0.5],
-            radius: 0.0,
-        });
-        w.create_body(&ground.kind(BodyKind::Static)).unwrap();
-        for row in 0..30 {
-            for col in 0..(30 - row) {
-                let x = col as f32 + row as f32 * 0.5 - 15.0;
-                let unit = ShapeDef::Box {
-                    half_extents: [0.5, 0.5],
-                    radius: 0.0,
-                };
-                w.create_body(&BodyDef::new(unit).at(x, 1.0 + row as f32))
-                    .unwrap();
-            }
-        }
+        box_pyramid(&mut w, 30, 40.0);
         w
     };
     let run = |switch: bool| {
@@ -336,25 +321,7 @@ fn a_solve_split_only_where_it_pays_times_both_ways_and_keeps_the_bits() {
     let run = |threads: usize| {
         let mut w = World::new(StepSettings::default());
         assert!(w.wide_thresholds().solve_by_payoff);
-        w.create_body(
-            &BodyDef::new(ShapeDef::Box {
-                half_extents: [60.0, 0.5],
-                radius: 0.0,
-            })
-            .kind(BodyKind::Static),
-        )
-        .unwrap();
-        for row in 0..45 {
-            for col in 0..(45 - row) {
-                let x = col as f32 + row as f32 * 0.5 - 22.5;
-                let unit = ShapeDef::Box {
-                    half_extents: [0.5, 0.5],
-                    radius: 0.0,
-                };
-                w.create_body(&BodyDef::new(unit).at(x, 1.0 + row as f32))
-                    .unwrap();
-            }
-        }
+        box_pyramid(&mut w, 45, 60.0);
         w.set_thread_count(threads);
         let mut workers = std::collections::BTreeSet::new();
         let mut probes = 0;
@@ -384,30 +351,31 @@ fn a_solve_split_only_where_it_pays_times_both_ways_and_keeps_the_bits() {
     assert_eq!(one, two);
 }
 
+/// A static ground `ground_half_width` each side of the origin (0.5 thick, top at y = 0)
+/// and a pyramid of `rows` rows of unit boxes standing on it, centred on x = 0.
+fn box_pyramid(w: &mut World, rows: usize, ground_half_width: f32) {
+    let ground = BodyDef::new(ShapeDef::Box {
+        half_extents: [ground_half_width, 0.5],
+        radius: 0.0,
+    });
+    w.create_body(&ground.kind(BodyKind::Static)).unwrap();
+    for row in 0..rows {
+        for col in 0..(rows - row) {
+            let x = col as f32 + row as f32 * 0.5 - rows as f32 * 0.5;
+            let unit = ShapeDef::Box {
+                half_extents: [0.5, 0.5],
+                radius: 0.0,
+            };
+            w.create_body(&BodyDef::new(unit).at(x, 1.0 + row as f32))
+                .unwrap();
+        }
+    }
+}
+
 /// An 8-row pyramid of boxes with 20 bouncy circles falling on it.
 fn pyramid_in_rain(settings: StepSettings) -> World {
     let mut w = World::new(settings);
-    w.create_body(
-        &BodyDef::new(ShapeDef::Box {
-            half_extents: [20.0, 0.5],
-            radius: 0.0,
-        })
-        .kind(BodyKind::Static),
-    )
-    .unwrap();
-    for row in 0..8 {
-        for col in 0..(8 - row) {
-            let x = col as f32 * 1.0 + row as f32 * 0.5 - 4.0;
-            w.create_body(
-                &BodyDef::new(ShapeDef::Box {
-                    half_extents: [0.5, 0.5],
-                    radius: 0.0,
-                })
-                .at(x, 1.0 + row as f32),
-            )
-            .unwrap();
-        }
-    }
+    box_pyramid(&mut w, 8, 20.0);
     for i in 0..20 {
         let shape = ShapeDef::Circle { radius: 0.25 };
         let body = BodyDef::new(shape)
