@@ -21,6 +21,15 @@ pub struct BodyState {
     pub dq: Rot,
 }
 
+// The solver's wide kernels write `v`, `w` and `flags` back as one 16-byte row
+// (`PerBody::set_motion_row`).
+const _: () = assert!(
+    std::mem::offset_of!(BodyState, v) == 0
+        && std::mem::offset_of!(BodyState, w) == 8
+        && std::mem::offset_of!(BodyState, flags) == 12
+        && std::mem::size_of::<BodyState>() == 32
+);
+
 impl Default for BodyState {
     fn default() -> Self {
         Self {

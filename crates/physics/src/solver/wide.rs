@@ -10,7 +10,6 @@
 
 use std::marker::PhantomData;
 
-use glam::Vec2;
 use wide::{f32x4, f32x8};
 
 use super::ContactInput;
@@ -633,6 +632,9 @@ pub(super) struct WideBody<V> {
     pub vx: V,
     pub vy: V,
     pub w: V,
+    /// The states' padding word as loaded (its bits, untouched), so that the velocities go
+    /// back as whole 16-byte rows ([`scatter`]).
+    pub pad: V,
     pub dpx: V,
     pub dpy: V,
     pub dqc: V,
@@ -657,7 +659,7 @@ fn transpose_bodies<V: Lanes>(
     let mut delta = [[f32x4::ZERO; 4]; 2];
     for l in 0..LANES {
         let s = state(index[l] as usize);
-        motion[l / 4][l % 4] = f32x4::new([s.v.x, s.v.y, s.w, 0.0]);
+        motion[l / 4][l % 4] = f32x4::new([s.v.x, s.v.y, s.w, f32::from_bits(s.flags)]);
         delta[l / 4][l % 4] = f32x4::new([s.dp.x, s.dp.y, s.dq.c, s.dq.s]);
     }
     let [m0, m1] = motion.map(f32x4::transpose);
@@ -666,6 +668,7 @@ fn transpose_bodies<V: Lanes>(
         vx: V::join(m0[0], m1[0]),
         vy: V::join(m0[1], m1[1]),
         w: V::join(m0[2], m1[2]),
+        pad: V::join(m0[3], m1[3]),
         dpx: V::join(d0[0], d1[0]),
         dpy: V::join(d0[1], d1[1]),
         dqc: V::join(d0[2], d1[2]),
@@ -685,14 +688,16 @@ pub(super) fn scatter<V: Lanes>(
     if dynamic == 0 {
         return;
     }
-    let (vx, vy, w) = (b.vx.halves(), b.vy.halves(), b.w.halves());
+    // Each body's velocities and padding word as one 16-byte store: the next gather of the
+    // body loads those 16 bytes whole, which a store of the velocity (8 bytes) and one of
+    // the spin (4) cannot forward to (the load waits for both to reach the cache).
+    let (vx, vy, w, pad) = (b.vx.halves(), b.vy.halves(), b.w.halves(), b.pad.halves());
     for g in 0..2 {
-        let rows = f32x4::transpose([vx[g], vy[g], w[g], f32x4::ZERO]);
+        let rows = f32x4::transpose([vx[g], vy[g], w[g], pad[g]]);
         for (k, row) in rows.iter().enumerate() {
             let l = g * 4 + k;
             if dynamic & (1 << l) != 0 {
-                let r = row.as_array();
-                states.set_velocity(index[l] as usize, Vec2::new(r[0], r[1]), r[2]);
+                states.set_motion_row(index[l] as usize, *row);
             }
         }
     }

@@ -78,6 +78,18 @@ impl<'a, T: Copy> PerBody<'a, T> {
 }
 
 impl PerBody<'_, BodyState> {
+    /// Writes a body's first 16 bytes, its velocity, spin and padding word (`BodyState`'s
+    /// layout: `v`, `w`, `flags`), as one store: `row` holds them in that order, the
+    /// padding word as the bits of a float.
+    #[inline(always)]
+    pub fn set_motion_row(&self, i: usize, row: wide::f32x4) {
+        assert!(i < self.len);
+        // SAFETY: as in `set`; `BodyState` is `repr(C, align(32))` with `v: Vec2`, `w: f32`,
+        // `flags: u32` first, so its first 16 bytes are those four words and are aligned
+        // for an `f32x4`.
+        unsafe { self.ptr.add(i).cast::<wide::f32x4>().write(row) }
+    }
+
     /// Writes a body's velocities only.
     #[inline(always)]
     pub fn set_velocity(&self, i: usize, v: glam::Vec2, w: f32) {
