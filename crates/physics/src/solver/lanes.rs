@@ -44,6 +44,10 @@ pub trait Lanes:
     fn select(self, if_true: Self, if_false: Self) -> Self;
     /// Whether any lane of this mask is set.
     fn any(self) -> bool;
+    /// This mask's lanes as bits (bit l: lane l set).
+    fn bits(self) -> u8;
+    /// The square root in each lane (IEEE-754's, correctly rounded, as `f32::sqrt`).
+    fn sqrt(self) -> Self;
     /// Lanes 0–3 from `lo`, 4–7 from `hi`.
     fn join(lo: f32x4, hi: f32x4) -> Self;
     /// The inverse of `join`.
@@ -90,6 +94,14 @@ impl Lanes for f32x8 {
     #[inline(always)]
     fn any(self) -> bool {
         self.to_bitmask() != 0
+    }
+    #[inline(always)]
+    fn bits(self) -> u8 {
+        self.to_bitmask() as u8
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        f32x8::sqrt(self)
     }
     #[inline(always)]
     fn join(lo: f32x4, hi: f32x4) -> Self {
@@ -238,6 +250,14 @@ mod avx {
         #[inline(always)]
         fn any(self) -> bool {
             unsafe { _mm256_movemask_ps(self.0) != 0 }
+        }
+        #[inline(always)]
+        fn bits(self) -> u8 {
+            unsafe { _mm256_movemask_ps(self.0) as u8 }
+        }
+        #[inline(always)]
+        fn sqrt(self) -> Self {
+            Avx(unsafe { _mm256_sqrt_ps(self.0) })
         }
         #[inline(always)]
         fn join(lo: f32x4, hi: f32x4) -> Self {

@@ -1555,19 +1555,16 @@ impl Passes<'_> {
                 }
             }
             Pass::IntegratePositions => {
-                for &i in &bodies.moving[items] {
-                    let i = i as usize;
-                    let m = &motion[i];
-                    let mut s = states.get(i);
-                    let cap = if m.dynamic {
-                        p.max_linear_speed
-                    } else {
-                        f32::INFINITY
-                    };
-                    count +=
-                        u64::from(integrate_position(&mut s, p.h, cap, m.rotates) && m.dynamic);
-                    states.set(i, s);
-                }
+                // Eight bodies at a time: the rotation's square root and division, one body
+                // at a time, were most of this pass.
+                count += wide::integrate_positions(
+                    &bodies.moving[items],
+                    motion,
+                    states,
+                    p.h,
+                    p.max_linear_speed,
+                    avx,
+                );
             }
             Pass::Bounce => {
                 let threshold = p.restitution_threshold;

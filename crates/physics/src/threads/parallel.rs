@@ -90,6 +90,15 @@ impl PerBody<'_, BodyState> {
         unsafe { self.ptr.add(i).cast::<wide::f32x4>().write(row) }
     }
 
+    /// Writes a body's last 16 bytes, its substep translation and rotation (`dp`, `dq`), as
+    /// one store: `row` holds `dp.x`, `dp.y`, `dq.c`, `dq.s`.
+    #[inline(always)]
+    pub fn set_delta_row(&self, i: usize, row: wide::f32x4) {
+        assert!(i < self.len);
+        // SAFETY: as in `set_motion_row`; `dp` and `dq` are the last 16 bytes, aligned.
+        unsafe { self.ptr.add(i).cast::<wide::f32x4>().add(1).write(row) }
+    }
+
     /// Writes a body's velocities only.
     #[inline(always)]
     pub fn set_velocity(&self, i: usize, v: glam::Vec2, w: f32) {
