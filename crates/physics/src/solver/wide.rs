@@ -1032,10 +1032,16 @@ fn solve_with<V: Lanes>(
         // The second point's normal velocity before either point pushes, for the lanes that
         // solve their two points together (as the scalar `contact_solver::solve`): one value
         // kept across the first point, not the six velocities.
-        let vn_before = (c.together != 0).then(|| {
+        // Not a closure (`bool::then`): a closure is compiled without the kernel's AVX2, and
+        // where it is not inlined its lane operations become calls (measured: the whole
+        // solve 1.8 times slower once, when a second instance of this kernel stopped
+        // inlining it).
+        let vn_before = if c.together != 0 {
             let (dvx, dvy) = relative_velocity(&a, &b, &c.points[1].r.load::<V>());
-            dvx * nx + dvy * ny
-        });
+            Some(dvx * nx + dvy * ny)
+        } else {
+            None
+        };
         for (j, p) in c.points.iter_mut().enumerate() {
             let r = p.r.load::<V>();
             // Current separation from the substep deltas (rotated anchors), normal fixed.
@@ -1222,10 +1228,16 @@ fn apply_restitution_with<V: Lanes>(
         let mut b = gather::<V>(states, &c.body_b);
         let m = c.masses();
         let (nx, ny) = (V::load(c.normal_x), V::load(c.normal_y));
-        let vn_before = (c.together != 0).then(|| {
+        // Not a closure (`bool::then`): a closure is compiled without the kernel's AVX2, and
+        // where it is not inlined its lane operations become calls (measured: the whole
+        // solve 1.8 times slower once, when a second instance of this kernel stopped
+        // inlining it).
+        let vn_before = if c.together != 0 {
             let (dvx, dvy) = relative_velocity(&a, &b, &c.points[1].r.load::<V>());
-            dvx * nx + dvy * ny
-        });
+            Some(dvx * nx + dvy * ny)
+        } else {
+            None
+        };
         for (j, (p, active)) in c.points.iter_mut().zip(active).enumerate() {
             let relative = V::load(p.relative_velocity);
             if !active.any() {
