@@ -1670,6 +1670,24 @@ pub fn integrate_velocity(
     s.w = w;
 }
 
+/// [`integrate_position`] for one body of the substeps' position pass: its speed capped at
+/// `max_linear_speed` where it is dynamic (never where it is not), its spin where it
+/// rotates. Returns whether a cap bit a dynamic body (what the pass counts).
+#[inline]
+pub fn integrate_body_position(
+    s: &mut BodyState,
+    m: &BodyMotion,
+    h: f32,
+    max_linear_speed: f32,
+) -> bool {
+    let cap = if m.dynamic {
+        max_linear_speed
+    } else {
+        f32::INFINITY
+    };
+    integrate_position(s, h, cap, m.rotates) && m.dynamic
+}
+
 /// Advances a body's substep deltas; speeds beyond the caps are clamped first (Box2D's
 /// `maxLinearSpeed`, and at most a quarter turn per substep so the first-order rotation
 /// stays accurate). Returns whether a cap bit.

@@ -766,6 +766,28 @@ fn relative_velocity<V: Lanes>(a: &WideBody<V>, b: &WideBody<V>, r: &R<V>) -> (V
 
 /// Adds `impulse` to the accumulated normal impulse of the lanes in `active`, clamped so
 /// contacts only push; returns what was applied.
+/// The second point's normal velocity before either point pushes, where some lane solves
+/// its two points together (`c.together`; as the scalar `contact_solver::solve`).
+///
+/// An `if`, not a `bool::then` closure: a closure is compiled without the kernel's AVX2, and
+/// where it is not inlined its lane operations become calls (measured: the whole solve 1.8
+/// times slower once, when a second instance of the kernel stopped inlining it).
+#[inline(always)]
+fn second_point_velocity<V: Lanes>(
+    c: &WideConstraint,
+    a: &WideBody<V>,
+    b: &WideBody<V>,
+    nx: V,
+    ny: V,
+) -> Option<V> {
+    if c.together != 0 {
+        let (dvx, dvy) = relative_velocity(a, b, &c.points[1].r.load::<V>());
+        Some(dvx * nx + dvy * ny)
+    } else {
+        None
+    }
+}
+
 #[inline(always)]
 fn accumulate_normal<V: Lanes>(p: &mut WidePoint, impulse: V, active: Option<V>) -> V {
     let old = V::load(p.normal_impulse);
@@ -796,7 +818,7 @@ macro_rules! dispatch {
     }};
 }
 
-/// Position integration (`solver::integrate_position`) of the bodies `moving`, eight at a
+/// Position integration (`solver::integrate_body_position`) of the bodies `moving`, eight at a
 /// time, operation for operation as the scalar function, so the bits are the same; a tail
 /// under eight goes through the scalar function. Each body's speed is capped at
 /// `max_linear_speed` where it is dynamic, its spin where it rotates. Returns how many
@@ -841,14 +863,13 @@ fn integrate_positions_with<V: Lanes>(
     let chunks = moving.chunks_exact(LANES);
     for &i in chunks.remainder() {
         let i = i as usize;
-        let m = &motion[i];
         let mut s = states.get(i);
-        let cap = if m.dynamic {
-            max_linear_speed
-        } else {
-            f32::INFINITY
-        };
-        count += u64::from(super::integrate_position(&mut s, h, cap, m.rotates) && m.dynamic);
+        count += u64::from(super::integrate_body_position(
+            &mut s,
+            &motion[i],
+            h,
+            max_linear_speed,
+        ));
         states.set(i, s);
     }
     let (zero, one) = (V::splat(0.0), V::splat(1.0));
@@ -1032,16 +1053,7 @@ fn solve_with<V: Lanes>(
         // The second point's normal velocity before either point pushes, for the lanes that
         // solve their two points together (as the scalar `contact_solver::solve`): one value
         // kept across the first point, not the six velocities.
-        // Not a closure (`bool::then`): a closure is compiled without the kernel's AVX2, and
-        // where it is not inlined its lane operations become calls (measured: the whole
-        // solve 1.8 times slower once, when a second instance of this kernel stopped
-        // inlining it).
-        let vn_before = if c.together != 0 {
-            let (dvx, dvy) = relative_velocity(&a, &b, &c.points[1].r.load::<V>());
-            Some(dvx * nx + dvy * ny)
-        } else {
-            None
-        };
+        let vn_before = second_point_velocity(c, &a, &b, nx, ny);
         for (j, p) in c.points.iter_mut().enumerate() {
             let r = p.r.load::<V>();
             // Current separation from the substep deltas (rotated anchors), normal fixed.
@@ -1161,13 +1173,6 @@ impl WideConstraint {
     }
 }
 
-/// A lane mask's lanes as bits (bit l set where lane l is).
-#[inline(always)]
-fn mask_bits<V: Lanes>(mask: V) -> u8 {
-    let lanes: [f32; LANES] = mask.store().to_array();
-    (0..LANES).fold(0, |bits, l| bits | (u8::from(lanes[l].to_bits() != 0) << l))
-}
-
 /// Each point's lanes that get a restitution impulse: they approached faster than the
 /// threshold (at any speed in lanes it does not apply to,
 /// `contact_solver::threshold_applies`) and pushed. It depends on the constraint alone, so it
@@ -1191,7 +1196,7 @@ pub fn bounce_lane_bits(c: &WideConstraint, threshold: f32) -> u8 {
         return 0;
     }
     let [p0, p1] = bounce_lanes::<f32x8>(c, threshold);
-    mask_bits(p0) | mask_bits(p1)
+    p0.bits() | p1.bits()
 }
 
 #[inline(always)]
@@ -1221,23 +1226,14 @@ fn apply_restitution_with<V: Lanes>(
         // Only the lanes that bounce are written back, as the scalar pass writes only the
         // constraints that do: another lane's velocities come back with a zero impulse
         // added, which turns a -0.0 into a +0.0.
-        let touched = mask_bits(active[0]) | mask_bits(active[1]);
+        let touched = active[0].bits() | active[1].bits();
         let mut moved_lanes = 0u8;
         let restitution = V::load(c.restitution);
         let mut a = gather::<V>(states, &c.body_a);
         let mut b = gather::<V>(states, &c.body_b);
         let m = c.masses();
         let (nx, ny) = (V::load(c.normal_x), V::load(c.normal_y));
-        // Not a closure (`bool::then`): a closure is compiled without the kernel's AVX2, and
-        // where it is not inlined its lane operations become calls (measured: the whole
-        // solve 1.8 times slower once, when a second instance of this kernel stopped
-        // inlining it).
-        let vn_before = if c.together != 0 {
-            let (dvx, dvy) = relative_velocity(&a, &b, &c.points[1].r.load::<V>());
-            Some(dvx * nx + dvy * ny)
-        } else {
-            None
-        };
+        let vn_before = second_point_velocity(c, &a, &b, nx, ny);
         for (j, (p, active)) in c.points.iter_mut().zip(active).enumerate() {
             let relative = V::load(p.relative_velocity);
             if !active.any() {
@@ -1260,7 +1256,7 @@ fn apply_restitution_with<V: Lanes>(
             let still = applied.abs().gt(tolerance * normal_mass) & rebound.gt(base_threshold);
             if still.any() {
                 moved += 1;
-                moved_lanes |= mask_bits(still);
+                moved_lanes |= still.bits();
             }
             apply(m, &mut a, &mut b, &r, applied * nx, applied * ny);
         }
@@ -1286,7 +1282,7 @@ fn apply_restitution_with<V: Lanes>(
 mod tests {
     use super::*;
     use crate::math::Rot;
-    use crate::solver::{BodyMotion, integrate_position};
+    use crate::solver::{BodyMotion, integrate_body_position};
     use glam::Vec2;
 
     /// The words of a state, for a comparison that tells NaNs apart by their bits.
@@ -1304,7 +1300,7 @@ mod tests {
         .map(f32::to_bits)
     }
 
-    /// Position integration eight bodies at a time against `integrate_position` one at a
+    /// Position integration eight bodies at a time against `integrate_body_position` one at a
     /// time, bit for bit, with the same count of caps: 27 bodies (three chunks of eight and a
     /// tail of three) in a scrambled order, dynamic ones that turn and that do not, kinematic
     /// ones (never speed-capped, spin-capped, not counted), speeds and spins over the caps, a
@@ -1344,8 +1340,7 @@ mod tests {
         let mut want_count = 0;
         for &i in &moving {
             let (s, m) = (&mut want[i as usize], &motion[i as usize]);
-            let cap = if m.dynamic { max_speed } else { f32::INFINITY };
-            want_count += u64::from(integrate_position(s, h, cap, m.rotates) && m.dynamic);
+            want_count += u64::from(integrate_body_position(s, m, h, max_speed));
         }
         // Every body of kind 3 (six) is capped and counted; the kinematic ones' spins are
         // capped too, uncounted.
